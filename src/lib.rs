@@ -1,0 +1,14 @@
+//! # wheelrail
+//!
+//! The Tomberger–Dietmaier–Sextro–Six wheel–rail friction model (Wear 271, 2011): Hertz contact, Greenwood–
+//! Williamson/Zhao–Maietta–Chang microcontact, temperature-dependent failure stress, FASTSIM with locally
+//! varying adhesion limit, moving-source contact temperature and an interfacial fluid, solved as one coupled
+//! fixed point. SI units throughout; temperatures in kelvin. See `README.md` for conventions.
+
+pub mod contact;
+pub mod error;
+pub mod materials;
+pub mod params;
+
+pub use error::{Error, Result};
+pub use params::{FrictionLaw, OperatingPoint, Params};
