@@ -7,8 +7,10 @@
 
 pub mod contact;
 pub mod error;
+pub mod friction;
 pub mod materials;
 pub mod params;
+pub mod plot;
 
 pub use error::{Error, Result};
 pub use params::{FrictionLaw, OperatingPoint, Params};
