@@ -1,1 +1,4 @@
-mod placeholder {}
+//! All integration tests in one binary (one link on a small machine).
+
+mod cli;
+mod solver;
