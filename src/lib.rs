@@ -5,12 +5,14 @@
 //! varying adhesion limit, moving-source contact temperature and an interfacial fluid, solved as one coupled
 //! fixed point. SI units throughout; temperatures in kelvin. See `README.md` for conventions.
 
+pub mod baselines;
 pub mod contact;
 pub mod error;
 pub mod friction;
 pub mod materials;
 pub mod params;
 pub mod plot;
+pub mod tangential;
 
 pub use error::{Error, Result};
 pub use params::{FrictionLaw, OperatingPoint, Params};
