@@ -278,6 +278,11 @@ pub struct SolverParams {
     pub relaxation: f64,
     /// Whether frictional heating is computed (false: T = T0 everywhere).
     pub heat: bool,
+    /// Convergence tolerance of the fluid film sweeps: largest change per sweep of the separation (in z_s)
+    /// and of the fluid height (in h_f0) [-].
+    pub fluid_tolerance: f64,
+    /// Sweep limit of the fluid film solve.
+    pub max_fluid_sweeps: usize,
 }
 
 impl Default for SolverParams {
@@ -287,6 +292,8 @@ impl Default for SolverParams {
             max_iterations: 200,
             relaxation: 1.0,
             heat: true,
+            fluid_tolerance: 1e-10,
+            max_fluid_sweeps: 20_000,
         }
     }
 }
@@ -363,17 +370,41 @@ impl Params {
         check_range("material.yield_stress", m.yield_stress, 1e6, 1e10, "Pa")?;
         check_range("material.yield_span", m.yield_span, 1.0, 1e5, "K")?;
         check_range("material.yield_floor", m.yield_floor, 1e-3, 1.0, "")?;
-        check_range("material.anomaly_amplitude", m.anomaly_amplitude, 0.0, 10.0, "")?;
-        check_range("material.anomaly_temperature", m.anomaly_temperature, 0.0, 5000.0, "K")?;
+        check_range(
+            "material.anomaly_amplitude",
+            m.anomaly_amplitude,
+            0.0,
+            10.0,
+            "",
+        )?;
+        check_range(
+            "material.anomaly_temperature",
+            m.anomaly_temperature,
+            0.0,
+            5000.0,
+            "K",
+        )?;
         check_range("material.anomaly_width", m.anomaly_width, 1e-3, 1e4, "K")?;
         check_range("material.hardness", m.hardness, 1e7, 1e11, "Pa")?;
         check_range("material.hardness_span", m.hardness_span, 1.0, 1e5, "K")?;
         check_range("material.hardness_floor", m.hardness_floor, 1e-3, 1.0, "")?;
-        check_range("material.reference_temperature", m.reference_temperature, 1.0, 2000.0, "K")?;
+        check_range(
+            "material.reference_temperature",
+            m.reference_temperature,
+            1.0,
+            2000.0,
+            "K",
+        )?;
         check_positive("material.conductivity", m.conductivity, "W/(m K)")?;
         check_positive("material.density", m.density, "kg/m^3")?;
         check_positive("material.specific_heat", m.specific_heat, "J/(kg K)")?;
-        check_range("material.bulk_temperature", m.bulk_temperature, 1.0, 2000.0, "K")?;
+        check_range(
+            "material.bulk_temperature",
+            m.bulk_temperature,
+            1.0,
+            2000.0,
+            "K",
+        )?;
         let r = &self.roughness;
         check_range("roughness.k_r", r.k_r, 0.0, 1.0, "")?;
         check_positive("roughness.z_s_smooth", r.z_s_smooth, "m")?;
@@ -400,8 +431,22 @@ impl Params {
         check_range("grid.ny", gr.ny as f64, 4.0, 400.0, "cells")?;
         let s = &self.solver;
         check_range("solver.tolerance", s.tolerance, 1e-14, 1e-1, "")?;
-        check_range("solver.max_iterations", s.max_iterations as f64, 1.0, 1e6, "")?;
+        check_range(
+            "solver.max_iterations",
+            s.max_iterations as f64,
+            1.0,
+            1e6,
+            "",
+        )?;
         check_range("solver.relaxation", s.relaxation, 1e-3, 1.0, "")?;
+        check_range("solver.fluid_tolerance", s.fluid_tolerance, 1e-15, 1e-2, "")?;
+        check_range(
+            "solver.max_fluid_sweeps",
+            s.max_fluid_sweeps as f64,
+            1.0,
+            1e7,
+            "",
+        )?;
         Ok(())
     }
 }
@@ -483,7 +528,12 @@ mod tests {
             normal_force: f64::NAN,
             ..Default::default()
         };
-        assert!(pt.validate().unwrap_err().to_string().contains("normal-force"));
+        assert!(
+            pt.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("normal-force")
+        );
         let pt = OperatingPoint {
             wetness: 1.2,
             ..Default::default()
