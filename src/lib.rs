@@ -9,6 +9,7 @@ pub mod contact;
 pub mod error;
 pub mod materials;
 pub mod params;
+pub mod thermal;
 
 pub use error::{Error, Result};
 pub use params::{FrictionLaw, OperatingPoint, Params};
