@@ -13,6 +13,7 @@ pub mod materials;
 pub mod params;
 pub mod plot;
 pub mod tangential;
+pub mod thermal;
 
 pub use error::{Error, Result};
 pub use params::{FrictionLaw, OperatingPoint, Params};
