@@ -8,12 +8,16 @@
 pub mod baselines;
 pub mod contact;
 pub mod error;
+pub mod fluid;
 pub mod friction;
 pub mod materials;
+pub mod microcontact;
 pub mod params;
 pub mod plot;
+pub mod solver;
 pub mod tangential;
 pub mod thermal;
 
 pub use error::{Error, Result};
 pub use params::{FrictionLaw, OperatingPoint, Params};
+pub use solver::{Solution, solve};

@@ -104,7 +104,14 @@ fn params_file_is_read_and_flags_override_it() {
 fn curve_writes_csv_jsonl_and_a_plot() {
     let png = tmp("curve.png");
     let o = wheelrail(&[
-        "curve", "--max", "0.02", "--points", "5", "--grid", "12,12", "--plot",
+        "curve",
+        "--max",
+        "0.02",
+        "--points",
+        "5",
+        "--grid",
+        "12,12",
+        "--plot",
         png.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

@@ -1,4 +1,5 @@
 //! All integration tests in one binary (one link on a small machine).
 
 mod cli;
+mod fluid;
 mod solver;

@@ -52,7 +52,10 @@ fn dry_curve_at_30_m_s_peaks_near_one_percent_and_falls_far_more_than_at_0_1_m_s
     let fall_fast = (fmax - fast[5]) / fmax;
     let smax = slow.iter().cloned().fold(0.0, f64::max);
     let fall_slow = (smax - slow[5]) / smax;
-    assert!(fall_fast > 0.15, "30 m/s curve falls only {fall_fast} ({fast:?})");
+    assert!(
+        fall_fast > 0.15,
+        "30 m/s curve falls only {fall_fast} ({fast:?})"
+    );
     assert!(
         fall_slow < 0.5 * fall_fast,
         "0.1 m/s falls {fall_slow}, 30 m/s {fall_fast}"
@@ -86,9 +89,17 @@ fn forces_are_odd_in_the_creepages_and_oppose_the_slip() {
     for (x, y) in g(&a).iter().zip(g(&b)) {
         // ξ → −ξ also swaps the wheel/rail surface speeds, so the heat problem is mirrored only
         // approximately; forces agree to a small fraction
-        assert!((x + y).abs() <= 0.02 * x.abs().max(1.0), "{:?} vs {:?}", g(&a), g(&b));
+        assert!(
+            (x + y).abs() <= 0.02 * x.abs().max(1.0),
+            "{:?} vs {:?}",
+            g(&a),
+            g(&b)
+        );
     }
-    assert!(a.global.force_x < 0.0, "positive ξ must give negative F_x (Kalker)");
+    assert!(
+        a.global.force_x < 0.0,
+        "positive ξ must give negative F_x (Kalker)"
+    );
 }
 
 #[test]
