@@ -15,6 +15,7 @@ pub mod microcontact;
 pub mod params;
 pub mod plot;
 pub mod solver;
+pub mod table;
 pub mod tangential;
 pub mod thermal;
 

@@ -3,6 +3,7 @@
 mod curve;
 mod fields;
 mod point;
+mod table;
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -25,6 +26,8 @@ enum Command {
     Curve(curve::CurveArgs),
     /// Write the local fields of one operating point as CSV (optional heat maps).
     Fields(fields::FieldsArgs),
+    /// Build, merge, verify and describe lookup tables of the model (tabulation mode).
+    Table(table::TableArgs),
 }
 
 /// Friction law names on the command line.
@@ -206,6 +209,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Point(a) => point::run(&a),
         Command::Curve(a) => curve::run(&a),
         Command::Fields(a) => fields::run(&a),
+        Command::Table(a) => table::run(&a),
     }
 }
 
