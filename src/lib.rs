@@ -8,6 +8,7 @@
 pub mod contact;
 pub mod error;
 pub mod materials;
+pub mod microcontact;
 pub mod params;
 
 pub use error::{Error, Result};
