@@ -6,7 +6,7 @@ PYTHON ?= python3
 VENV := .venv
 VPY := $(VENV)/bin/python
 
-.PHONY: all build test test-rust lint demo clean
+.PHONY: all build test test-rust lint demo clean table
 
 all: build
 
@@ -25,3 +25,10 @@ test: lint test-rust
 clean:
 	$(CARGO) clean
 	rm -rf $(VENV)
+
+# The default lookup table (default parameters, default axes) for the FMU, then its spot check against the
+# exact solver. Long: see README (tabulation mode) for the measured build time.
+TABLE_DIR := fmu/resources/table
+table:
+	$(CARGO) run --release --bin wheelrail -- table build --out $(TABLE_DIR)
+	$(CARGO) run --release --bin wheelrail -- table verify $(TABLE_DIR)

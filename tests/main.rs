@@ -3,3 +3,4 @@
 mod cli;
 mod fluid;
 mod solver;
+mod table;

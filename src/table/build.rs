@@ -90,7 +90,9 @@ pub fn build(
             r
         })
         .collect();
-    let mut outputs = vec![Vec::with_capacity(indices.len()); OUTPUTS];
+    let mut outputs: Vec<Vec<f64>> = (0..OUTPUTS)
+        .map(|_| Vec::with_capacity(indices.len()))
+        .collect();
     let mut converged = Vec::with_capacity(indices.len());
     let mut unconverged = Vec::new();
     let mut failures = Vec::new();

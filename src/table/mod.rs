@@ -14,7 +14,7 @@
 pub mod axes;
 pub mod build;
 pub mod file;
-mod interp;
+pub mod interp;
 pub mod verify;
 
 pub use axes::{Axes, AxesSpec, Axis, AxisSpec, DIMENSIONS, DIMS, Interpolation, Spacing};
@@ -24,7 +24,7 @@ pub use file::{MomentScale, OUTPUT_INFO, OUTPUTS, ShardRecord, Sidecar, TableFil
 use crate::error::{Error, Result};
 use crate::params::{OperatingPoint, Params};
 use axes::{ETA, FORCE, PHI, XI};
-use interp::{AxisInterp, Stencil};
+use interp::{AxisInterp, LinearStencil};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock, Weak};
@@ -251,12 +251,18 @@ impl Table {
         Ok((out, jac))
     }
 
-    /// Tensor-product interpolation at stored-quadrant coordinates `q` (inside the ranges): 4×4×4 cubic
-    /// stencil over (ξ, η, φ) times 2×2×2 linear over (F_N, V, w). Ghost nodes of mirrored axes read the
-    /// mirror-image point (φ index reversed by the η mirror) with the output signs of the symmetry.
+    /// Tensor-product interpolation at stored-quadrant coordinates `q` (inside the ranges): the 2×2×2
+    /// linear corners over (F_N, V, w) are contracted first at each of the 4×4×4 cubic window nodes over
+    /// (ξ, η, φ), then the monotone splines along φ, η and ξ in turn, each fibre carrying its derivatives
+    /// forward (the fibre weights are the partial derivatives, see `interp`). Ghost nodes of mirrored axes
+    /// read the mirror-image point (φ index reversed by the η mirror) with the symmetry's output signs.
     #[inline(always)]
     fn core<const JAC: bool>(&self, q: &[f64; DIMS]) -> Core {
-        let st: [Stencil; DIMS] = std::array::from_fn(|d| self.interp[d].stencil(q[d]));
+        let cx = self.interp[XI].cubic(q[XI]);
+        let cy = self.interp[ETA].cubic(q[ETA]);
+        let cp = self.interp[PHI].cubic(q[PHI]);
+        let lin: [LinearStencil; 3] =
+            std::array::from_fn(|k| self.interp[FORCE + k].linear(q[FORCE + k]));
         let [s0, s1, s2, s3, s4, s5] = self.strides;
         let n_phi = self.axes.0[PHI].points.len() as isize;
         // the eight linear corners: row offsets, weights and weight derivatives
@@ -265,76 +271,106 @@ impl Table {
         let mut dl = [[0.0; 8]; 3];
         for c in 0..8 {
             let (l, m, n) = (c >> 2, (c >> 1) & 1, c & 1);
-            off[c] = (st[3].start as usize + l) * s3
-                + (st[4].start as usize + m) * s4
-                + (st[5].start as usize + n) * s5;
-            let (a, b, e) = (st[3].w[l], st[4].w[m], st[5].w[n]);
+            off[c] = (lin[0].start + l) * s3 + (lin[1].start + m) * s4 + (lin[2].start + n) * s5;
+            let (a, b, e) = (lin[0].w[l], lin[1].w[m], lin[2].w[n]);
             wl[c] = a * b * e;
             if JAC {
-                dl[0][c] = st[3].dw[l] * b * e;
-                dl[1][c] = a * st[4].dw[m] * e;
-                dl[2][c] = a * b * st[5].dw[n];
+                dl[0][c] = lin[0].dw[l] * b * e;
+                dl[1][c] = a * lin[1].dw[m] * e;
+                dl[2][c] = a * b * lin[2].dw[n];
             }
         }
-        let mut v = [0.0; OUTPUTS];
-        let mut d = [[0.0; DIMS]; 3];
+        // stage 0: values [i][j][k][o] and (F_N, V, w)-derivatives [i][j][k][o][a] at the window nodes
+        let mut c0 = [[[[0.0; OUTPUTS]; 4]; 4]; 4];
+        let mut t0 = [[[[[0.0; 3]; 3]; 4]; 4]; 4];
         let mut converged = true;
         for i in 0..4 {
-            let gi = st[0].start + i as isize;
+            let gi = cx.start + i as isize;
             let (ii, fx) = (gi.unsigned_abs(), gi < 0);
             for j in 0..4 {
-                let gj = st[1].start + j as isize;
+                let gj = cy.start + j as isize;
                 let (jj, fy) = (gj.unsigned_abs(), gj < 0);
-                let wij = st[0].w[i] * st[1].w[j];
+                // symmetry signs of ghost nodes: ξ-mirror flips F_x, η-mirror flips F_y and M_z
+                let sign = [
+                    if fx { -1.0 } else { 1.0 },
+                    if fy { -1.0 } else { 1.0 },
+                    if fy { -1.0 } else { 1.0 },
+                ];
                 for k in 0..4 {
-                    let gk = st[2].start + k as isize;
+                    let gk = cp.start + k as isize;
                     let kk = if fy { n_phi - 1 - gk } else { gk } as usize;
                     let base = ii * s0 + jj * s1 + kk * s2;
-                    let mut inner = [0.0; OUTPUTS];
-                    let mut inner_d = [[0.0; 3]; 3];
+                    let inner = &mut c0[i][j][k];
+                    let inner_d = &mut t0[i][j][k];
                     for c in 0..8 {
                         let row = &self.rows[base + off[c]];
                         for o in 0..OUTPUTS {
                             inner[o] += wl[c] * row[o];
                         }
                         if JAC {
-                            for (a, dla) in dl.iter().enumerate() {
-                                for o in 0..3 {
-                                    inner_d[a][o] += dla[c] * row[o];
+                            for o in 0..3 {
+                                for a in 0..3 {
+                                    inner_d[o][a] += dl[a][c] * row[o];
                                 }
+                            }
+                        }
+                    }
+                    for o in 0..3 {
+                        inner[o] *= sign[o];
+                        if JAC {
+                            for d in inner_d[o].iter_mut() {
+                                *d *= sign[o];
                             }
                         }
                     }
                     if !self.all_converged {
                         converged &= off.iter().all(|o| self.converged[base + o] == 1);
                     }
-                    // symmetry signs of ghost nodes: ξ-mirror flips F_x, η-mirror flips F_y and M_z
-                    let sign = [
-                        if fx { -1.0 } else { 1.0 },
-                        if fy { -1.0 } else { 1.0 },
-                        if fy { -1.0 } else { 1.0 },
-                    ];
-                    for o in 0..3 {
-                        inner[o] *= sign[o];
-                    }
-                    let w = wij * st[2].w[k];
-                    for o in 0..OUTPUTS {
-                        v[o] += w * inner[o];
-                    }
-                    if JAC {
-                        let wx = st[0].dw[i] * st[1].w[j] * st[2].w[k];
-                        let wy = st[0].w[i] * st[1].dw[j] * st[2].w[k];
-                        let wp = wij * st[2].dw[k];
-                        for o in 0..3 {
-                            d[o][0] += wx * inner[o];
-                            d[o][1] += wy * inner[o];
-                            d[o][2] += wp * inner[o];
-                            for a in 0..3 {
-                                d[o][3 + a] += w * sign[o] * inner_d[a][o];
-                            }
+                }
+            }
+        }
+        // stage 1: along φ; derivatives (F_N, V, w, φ)
+        let mut c1 = [[[0.0; OUTPUTS]; 4]; 4];
+        let mut t1 = [[[[0.0; 4]; 3]; 4]; 4];
+        for i in 0..4 {
+            for j in 0..4 {
+                for o in 0..OUTPUTS {
+                    let f = cp.eval(&std::array::from_fn(|k| c0[i][j][k][o]));
+                    c1[i][j][o] = f.v;
+                    if JAC && o < 3 {
+                        for a in 0..3 {
+                            t1[i][j][o][a] = (0..4).map(|k| f.w[k] * t0[i][j][k][o][a]).sum();
                         }
+                        t1[i][j][o][3] = f.dv;
                     }
                 }
+            }
+        }
+        // stage 2: along η; derivatives (F_N, V, w, φ, η)
+        let mut c2 = [[0.0; OUTPUTS]; 4];
+        let mut t2 = [[[0.0; 5]; 3]; 4];
+        for i in 0..4 {
+            for o in 0..OUTPUTS {
+                let f = cy.eval(&std::array::from_fn(|j| c1[i][j][o]));
+                c2[i][o] = f.v;
+                if JAC && o < 3 {
+                    for a in 0..4 {
+                        t2[i][o][a] = (0..4).map(|j| f.w[j] * t1[i][j][o][a]).sum();
+                    }
+                    t2[i][o][4] = f.dv;
+                }
+            }
+        }
+        // stage 3: along ξ
+        let mut v = [0.0; OUTPUTS];
+        let mut d = [[0.0; DIMS]; 3];
+        for o in 0..OUTPUTS {
+            let f = cx.eval(&std::array::from_fn(|i| c2[i][o]));
+            v[o] = f.v;
+            if JAC && o < 3 {
+                let t: [f64; 5] =
+                    std::array::from_fn(|a| (0..4).map(|i| f.w[i] * t2[i][o][a]).sum());
+                d[o] = [f.dv, t[4], t[3], t[0], t[1], t[2]];
             }
         }
         Core { v, d, converged }
@@ -361,7 +397,7 @@ pub(crate) fn synthetic(
     f: &dyn Fn(&[f64; DIMS]) -> [f64; OUTPUTS],
 ) -> Table {
     let n = axes.len();
-    let mut outputs = vec![Vec::with_capacity(n); OUTPUTS];
+    let mut outputs: Vec<Vec<f64>> = (0..OUTPUTS).map(|_| Vec::with_capacity(n)).collect();
     for i in 0..n {
         for (o, v) in outputs.iter_mut().zip(f(&axes.coordinates(i))) {
             o.push(v);
@@ -425,41 +461,58 @@ mod tests {
         p
     }
 
-    /// A function with the model's symmetries (even/odd under the (η, φ) and (ξ, φ) mirrors), quadratic in
-    /// each creepage and linear in F_N, V, w: the interpolant reproduces it exactly.
-    fn symmetric_quadratic(c: &[f64; DIMS]) -> [f64; OUTPUTS] {
+    /// A function with the model's symmetries, linear in each coordinate: the interpolant reproduces it
+    /// exactly. Monomials x^a·y^b·φ^c: the ξ mirror multiplies them by (−1)^a, the (η, φ) mirror by
+    /// (−1)^(b+c). F_x: odd, even; F_y and M_z: even, odd; T: even, even.
+    fn symmetric_multilinear(c: &[f64; DIMS]) -> [f64; OUTPUTS] {
         let [x, y, p, f, v, w] = *c;
         let lin = (1.0 + 2e-6 * f) * (1.0 - 0.003 * v) * (1.0 + 0.5 * w);
-        // monomials x^a·y^b·φ^c: the ξ mirror multiplies them by (−1)^a, the (η, φ) mirror by (−1)^(b+c).
-        // F_x: odd, even; F_y and M_z: even, odd; T: even, even.
-        let fx = lin * (-3.0 * x + 0.5 * x * p * p + 40.0 * x * y * p + 7.0 * x * y * y);
-        let fy = lin * (-2.0 * y + 0.01 * p + 5.0 * y * x * x - 0.3 * y * p * p + 2.0 * x * x * p);
-        let mz = lin * (0.02 * p - 0.7 * y + 3.0 * p * x * x);
-        let t = 300.0 + 50.0 * lin * (x * x + y * y + 0.001 * p * p + 4.0 * x * x * y * p);
-        let fl = 0.3 * w * (1.0 - 0.002 * v);
-        [fx, fy, mz, t, fl]
+        [
+            lin * (-3.0 * x + 40.0 * x * y * p),
+            lin * (-2.0 * y + 0.01 * p),
+            lin * (0.02 * p - 0.7 * y),
+            300.0 + 50.0 * lin * (1.0 + 4.0 * y * p),
+            0.3 * w * (1.0 - 0.002 * v),
+        ]
+    }
+
+    /// A smooth function with the symmetries and creep-curve-like saturation (not reproduced exactly).
+    fn symmetric_saturating(c: &[f64; DIMS]) -> [f64; OUTPUTS] {
+        let [x, y, p, f, v, w] = *c;
+        let lin = (1.0 + 2e-6 * f) * (1.0 - 0.003 * v) * (1.0 + 0.5 * w);
+        let sat = |u: f64| (u / 0.004).tanh();
+        [
+            -lin * sat(x) * (1.0 + 0.3 * y * p),
+            -lin * (sat(y) + 0.002 * p),
+            lin * (0.02 * p - sat(y) * (1.0 + x * x)),
+            300.0 + 50.0 * lin * (x * x + y * p),
+            0.3 * w * (1.0 - 0.002 * v),
+        ]
+    }
+
+    fn random_coordinates(rng: &mut verify::SplitMix64) -> [f64; DIMS] {
+        let mut u = || rng.uniform();
+        [
+            -0.05 + 0.1 * u(),
+            -0.02 + 0.04 * u(),
+            -1.0 + 2.0 * u(),
+            50e3 + 50e3 * u(),
+            10.0 + 20.0 * u(),
+            u(),
+        ]
     }
 
     #[test]
-    fn interpolant_reproduces_symmetric_quadratics_and_their_derivatives() {
+    fn interpolant_reproduces_symmetric_multilinear_functions_and_their_derivatives() {
         let params = polach();
-        let axes = tiny_axes();
-        let t = synthetic(&axes, &params, &symmetric_quadratic);
+        let t = synthetic(&tiny_axes(), &params, &symmetric_multilinear);
         let scale = t.sidecar.moment_scale;
         let mut rng = verify::SplitMix64::new(7);
         for _ in 0..500 {
-            let mut u = || rng.uniform();
-            let c = [
-                -0.05 + 0.1 * u(),
-                -0.02 + 0.04 * u(),
-                -1.0 + 2.0 * u(),
-                50e3 + 50e3 * u(),
-                10.0 + 20.0 * u(),
-                u(),
-            ];
+            let c = random_coordinates(&mut rng);
             let pt = build::operating_point(&c);
             let (o, j) = t.evaluate_with_jacobian(&pt).unwrap();
-            let want = symmetric_quadratic(&c);
+            let want = symmetric_multilinear(&c);
             let f = c[3];
             let r = scale.radius(f);
             assert!(o.in_range && o.converged);
@@ -475,7 +528,7 @@ mod tests {
                 let (mut cp, mut cm) = (c, c);
                 cp[d] += h;
                 cm[d] -= h;
-                let (fp, fm) = (symmetric_quadratic(&cp), symmetric_quadratic(&cm));
+                let (fp, fm) = (symmetric_multilinear(&cp), symmetric_multilinear(&cm));
                 let phys = |c: &[f64; DIMS], v: &[f64; OUTPUTS]| {
                     [c[3] * v[0], c[3] * v[1], c[3] * scale.radius(c[3]) * v[2]]
                 };
@@ -487,6 +540,45 @@ mod tests {
                         (j[o][d] - fd).abs() < tol.max(1e-9),
                         "∂{o}/∂{d} at {c:?}: {} vs {fd}",
                         j[o][d]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn jacobian_is_the_derivative_of_the_interpolant() {
+        let params = polach();
+        let mut axes = tiny_axes();
+        axes.0[XI].points = vec![0.0, 0.001, 0.003, 0.01, 0.03, 0.05];
+        let t = synthetic(&axes, &params, &symmetric_saturating);
+        let mut rng = verify::SplitMix64::new(11);
+        for _ in 0..300 {
+            let c = random_coordinates(&mut rng);
+            let (_, j) = t
+                .evaluate_with_jacobian(&build::operating_point(&c))
+                .unwrap();
+            for d in 0..DIMS {
+                let h = [1e-8, 1e-8, 1e-6, 0.1, 1e-5, 1e-7][d];
+                let (mut cp, mut cm) = (c, c);
+                cp[d] += h;
+                cm[d] -= h;
+                let (p, m) = (
+                    t.evaluate(&build::operating_point(&cp)).unwrap(),
+                    t.evaluate(&build::operating_point(&cm)).unwrap(),
+                );
+                let fd = [
+                    (p.force_x - m.force_x) / (2.0 * h),
+                    (p.force_y - m.force_y) / (2.0 * h),
+                    (p.spin_moment - m.spin_moment) / (2.0 * h),
+                ];
+                for o in 0..3 {
+                    let scale = [c[3], c[3], c[3] * 0.01][o] / [0.05, 0.02, 1.0, 1e5, 20.0, 1.0][d];
+                    assert!(
+                        (j[o][d] - fd[o]).abs() < 1e-5 * scale.max(fd[o].abs()),
+                        "∂{o}/∂{d} at {c:?}: {} vs {}",
+                        j[o][d],
+                        fd[o]
                     );
                 }
             }
@@ -541,7 +633,7 @@ mod tests {
 
     #[test]
     fn out_of_range_is_clamped_and_flagged_bad_input_is_an_error() {
-        let t = synthetic(&tiny_axes(), &polach(), &symmetric_quadratic);
+        let t = synthetic(&tiny_axes(), &polach(), &symmetric_multilinear);
         let pt = OperatingPoint {
             creepage_x: 0.02,
             creepage_y: 0.001,
@@ -585,7 +677,7 @@ mod tests {
         let mut axes = tiny_axes();
         axes.0[XI].points = vec![0.0, 0.001, 0.003, 0.01, 0.03, 0.05];
         let params = polach();
-        let mut t = synthetic(&axes, &params, &symmetric_quadratic);
+        let mut t = synthetic(&axes, &params, &symmetric_multilinear);
         // flag the node at the largest ξ, η, φ, F_N, V, w
         let last = axes.len() - 1;
         t.converged[last] = 0;
