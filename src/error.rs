@@ -55,7 +55,7 @@ pub fn check_range(name: &str, value: f64, lo: f64, hi: f64, unit: &str) -> Resu
         Err(Error::out_of_range(
             name,
             value,
-            &format!("finite, {lo} ..= {hi} {unit}").trim_end().to_string(),
+            format!("finite, {lo} ..= {hi} {unit}").trim_end(),
         ))
     }
 }
@@ -68,7 +68,7 @@ pub fn check_positive(name: &str, value: f64, unit: &str) -> Result<()> {
         Err(Error::out_of_range(
             name,
             value,
-            &format!("finite, > 0 {unit}").trim_end().to_string(),
+            format!("finite, > 0 {unit}").trim_end(),
         ))
     }
 }
@@ -81,7 +81,7 @@ pub fn check_finite(name: &str, value: f64, unit: &str) -> Result<()> {
         Err(Error::out_of_range(
             name,
             value,
-            &format!("finite {unit}").trim_end().to_string(),
+            format!("finite {unit}").trim_end(),
         ))
     }
 }

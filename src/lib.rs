@@ -5,12 +5,19 @@
 //! varying adhesion limit, moving-source contact temperature and an interfacial fluid, solved as one coupled
 //! fixed point. SI units throughout; temperatures in kelvin. See `README.md` for conventions.
 
+pub mod baselines;
 pub mod contact;
 pub mod error;
+pub mod fluid;
 pub mod friction;
 pub mod materials;
+pub mod microcontact;
 pub mod params;
 pub mod plot;
+pub mod solver;
+pub mod tangential;
+pub mod thermal;
 
 pub use error::{Error, Result};
 pub use params::{FrictionLaw, OperatingPoint, Params};
+pub use solver::{Solution, solve};

@@ -93,7 +93,10 @@ mod tests {
         let m = Material::default();
         let at = |c: f64| m.yield_stress_at(c + CELSIUS_ZERO);
         assert!(at(300.0) < at(20.0));
-        assert!(at(450.0) > at(350.0), "anomaly should raise σ_y between 350 and 450 °C");
+        assert!(
+            at(450.0) > at(350.0),
+            "anomaly should raise σ_y between 350 and 450 °C"
+        );
         assert!(at(600.0) < at(450.0));
         // ratios fall with temperature apart from the bump
         let r = |c: f64| at(c) / m.hardness_at(c + CELSIUS_ZERO);

@@ -60,7 +60,9 @@ fn finite_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 /// Draws the series as a line chart into `path` (.png or .svg).
 pub fn line_chart(path: &Path, chart: &Chart, series: &[Series]) -> anyhow::Result<()> {
     ensure_font();
-    let svg = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+    let svg = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
     if svg {
         let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
         draw_lines(root, chart, series)
@@ -126,7 +128,9 @@ pub fn heat_map(
     values: &[f64],
 ) -> anyhow::Result<()> {
     ensure_font();
-    let svg = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+    let svg = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
     if svg {
         let root = SVGBackend::new(path, (800, 700)).into_drawing_area();
         draw_map(root, title, unit, grid, values)

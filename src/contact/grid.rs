@@ -136,7 +136,10 @@ mod tests {
         assert!(!g.is_empty());
         for s in &g.strips {
             let xs: Vec<f64> = g.cells[s.cells.clone()].iter().map(|c| c.x).collect();
-            assert!(xs.windows(2).all(|w| w[0] > w[1]), "strip not leading-first");
+            assert!(
+                xs.windows(2).all(|w| w[0] > w[1]),
+                "strip not leading-first"
+            );
             assert!(xs[0] < s.half_length && *xs.last().unwrap() > -s.half_length);
         }
         for (k, c) in g.cells.iter().enumerate() {

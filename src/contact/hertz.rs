@@ -52,7 +52,12 @@ impl HertzContact {
     /// Hertz contact for curvatures A (along x) and B (along y) [1/m], normal force F_N [N] and composite
     /// modulus E* [Pa] (MODEL.md §2): solves (E/(1−e²) − K)/(K − E) = A_l/A_s for e, then
     /// m³ = 3F_N(K − E)/(2π E* e² A_s), n = m·sqrt(1 − e²), p0 = 3F_N/(2π m n), δ = 3F_N K/(2π E* m).
-    pub fn from_curvatures(curv_x: f64, curv_y: f64, normal_force: f64, e_star: f64) -> Result<Self> {
+    pub fn from_curvatures(
+        curv_x: f64,
+        curv_y: f64,
+        normal_force: f64,
+        e_star: f64,
+    ) -> Result<Self> {
         check_positive("curvature_x", curv_x, "1/m")?;
         check_positive("curvature_y", curv_y, "1/m")?;
         check_positive("normal_force", normal_force, "N")?;

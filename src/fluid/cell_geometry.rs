@@ -1,0 +1,169 @@
+//! Heights of one fluid cell (paper eqs. P7–P11, P15; MODEL.md §8): base height, cell height, equivalent
+//! metallic volume height and the void height open to the fluid.
+
+use std::f64::consts::{PI, SQRT_2};
+
+/// Inverse error function, |x| < 1 (Giles 2010 single-precision seed refined by two Newton steps on erf,
+/// accurate to double precision).
+pub fn erf_inv(x: f64) -> f64 {
+    if x <= -1.0 {
+        return f64::NEG_INFINITY;
+    }
+    if x >= 1.0 {
+        return f64::INFINITY;
+    }
+    let w = -((1.0 - x) * (1.0 + x)).ln();
+    let mut y = if w < 5.0 {
+        let w = w - 2.5;
+        let mut p = 2.810_226_36e-08;
+        for c in [
+            3.432_739_39e-07,
+            -3.523_387_7e-06,
+            -4.391_506_54e-06,
+            0.000_218_580_87,
+            -0.001_253_725_03,
+            -0.004_177_681_64,
+            0.246_640_727,
+            1.501_409_41,
+        ] {
+            p = c + p * w;
+        }
+        p * x
+    } else {
+        let w = w.sqrt() - 3.0;
+        let mut p = -0.000_200_214_257;
+        for c in [
+            0.000_100_950_558,
+            0.001_349_343_22,
+            -0.003_673_428_44,
+            0.005_739_507_73,
+            -0.007_622_461_3,
+            0.009_438_870_47,
+            1.001_674_06,
+            2.832_976_82,
+        ] {
+            p = c + p * w;
+        }
+        p * x
+    };
+    for _ in 0..2 {
+        let err = libm::erf(y) - x;
+        y -= err / (2.0 / PI.sqrt() * (-y * y).exp());
+    }
+    y
+}
+
+/// Cell base height d_b = √2·z_s·erfinv(1 − 2ψ_b) [m] (P7): the height above which a share ψ_b of the
+/// asperities reaches (ψ_b = 0.9995 → d_b = −3.2905·z_s).
+pub fn base_height(z_s: f64, psi_b: f64) -> f64 {
+    SQRT_2 * z_s * erf_inv(1.0 - 2.0 * psi_b)
+}
+
+/// Heights of one cell at separation d, all in m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellGeometry {
+    /// Cell height l_c = d − d_b (P8).
+    pub cell_height: f64,
+    /// Equivalent metallic volume height l_m = ∫_{d_b}^{d} ψ(z) dz (P10, P11).
+    pub metal_height: f64,
+    /// Void height open to the fluid l_v = l_c − l_m (the height in A_x = l_v·h_y, P15).
+    pub void_height: f64,
+    /// d l_v / d d = 1 − ψ(d) [-].
+    pub void_slope: f64,
+}
+
+/// Antiderivative of ψ(z) = ½·erfc(z/(√2 z_s)): ∫ψ dz = z·ψ(z) − z_s²·φ(z), φ the Gaussian density (P4).
+fn psi_antiderivative(z: f64, z_s: f64) -> f64 {
+    let t = z / z_s;
+    let psi = 0.5 * libm::erfc(t / SQRT_2);
+    let phi = (-0.5 * t * t).exp() / ((2.0 * PI).sqrt() * z_s);
+    z * psi - z_s * z_s * phi
+}
+
+impl CellGeometry {
+    /// Cell heights at separation `d` for the surface with height deviation `z_s` and base height `d_b`
+    /// (closed form of P11: l_m = [z·ψ(z) − z_s²·φ(z)] from d_b to d). The void height is computed as
+    /// ∫_{d_b}^{d} (1 − ψ) dz directly, which keeps its full relative accuracy when it is tiny.
+    pub fn at(d: f64, z_s: f64, d_b: f64) -> Self {
+        let cell_height = d - d_b;
+        let metal_height = psi_antiderivative(d, z_s) - psi_antiderivative(d_b, z_s);
+        // 1 − ψ(z) = ψ(−z): ∫_{d_b}^{d} ψ(−z) dz = ∫_{−d}^{−d_b} ψ(u) du
+        let void_height = (psi_antiderivative(-d_b, z_s) - psi_antiderivative(-d, z_s)).max(0.0);
+        Self {
+            cell_height,
+            metal_height,
+            void_height,
+            void_slope: 0.5 * libm::erfc(-d / (SQRT_2 * z_s)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn erf_inv_inverts_erf() {
+        for x in [-0.999_999, -0.9, -0.3, 0.0, 1e-9, 0.5, 0.9995, 0.999_999_9] {
+            let y = erf_inv(x);
+            assert!((libm::erf(y) - x).abs() < 1e-15, "x = {x}");
+        }
+    }
+
+    #[test]
+    fn base_height_matches_model_md() {
+        // ψ_b = 0.9995 → d_b = −3.2905·z_s
+        let db = base_height(1e-6, 0.9995);
+        assert!((db / 1e-6 + 3.2905).abs() < 1e-4, "{db}");
+        // ψ(d_b) = ψ_b by definition (P5, P7)
+        assert!((0.5 * libm::erfc(db / (SQRT_2 * 1e-6)) - 0.9995).abs() < 1e-12);
+    }
+
+    /// Composite Simpson on many panels: an independent numerical integration of P10/P11.
+    fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64, n: usize) -> f64 {
+        let h = (b - a) / n as f64;
+        let mut s = f(a) + f(b);
+        for k in 1..n {
+            s += f(a + k as f64 * h) * if k % 2 == 1 { 4.0 } else { 2.0 };
+        }
+        s * h / 3.0
+    }
+
+    #[test]
+    fn metal_height_closed_form_equals_numerical_integral() {
+        let z_s = 1.3e-6;
+        let d_b = base_height(z_s, 0.9995);
+        let psi = |z: f64| 0.5 * libm::erfc(z / (SQRT_2 * z_s));
+        for t in [-3.0, -2.0, -0.5, 0.0, 1.0, 3.0] {
+            let d = t * z_s;
+            let g = CellGeometry::at(d, z_s, d_b);
+            let lm = simpson(psi, d_b, d, 20_000);
+            let lv = simpson(|z| 1.0 - psi(z), d_b, d, 20_000);
+            assert!((g.metal_height - lm).abs() < 1e-10 * z_s, "l_m at {t}");
+            assert!((g.void_height - lv).abs() < 1e-10 * z_s, "l_v at {t}");
+            assert!((g.cell_height - g.metal_height - g.void_height).abs() < 1e-12 * z_s);
+        }
+    }
+
+    #[test]
+    fn void_height_is_positive_and_grows_with_separation() {
+        let z_s = 1e-6;
+        let d_b = base_height(z_s, 0.9995);
+        let mut last = 0.0;
+        for k in 0..60 {
+            let d = d_b + 1e-9 + k as f64 * 0.15 * z_s;
+            let g = CellGeometry::at(d, z_s, d_b);
+            assert!(g.void_height > last);
+            last = g.void_height;
+            // slope: central difference
+            let e = 1e-4 * z_s;
+            let fd = (CellGeometry::at(d + e, z_s, d_b).void_height
+                - CellGeometry::at(d - e, z_s, d_b).void_height)
+                / (2.0 * e);
+            assert!((fd - g.void_slope).abs() < 1e-6);
+        }
+        // far above the asperities the void is the whole gap above the mean plane: l_v → d (+ tiny)
+        let g = CellGeometry::at(8.0 * z_s, z_s, d_b);
+        assert!((g.void_height - 8.0 * z_s).abs() < 1e-3 * z_s);
+    }
+}

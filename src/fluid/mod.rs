@@ -1,0 +1,8 @@
+//! Interfacial fluid (paper §2.5, MODEL.md §8): cell geometry from the roughness statistics and the
+//! mass-conserving boundary/mixed-lubrication film solve.
+
+pub mod cell_geometry;
+pub mod film;
+
+pub use cell_geometry::{CellGeometry, base_height};
+pub use film::{FilmProblem, FilmSolution, Regime, solve_film};

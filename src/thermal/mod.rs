@@ -1,0 +1,9 @@
+//! Macroscopic contact temperature: moving-source influence coefficients and the wheel–rail heat partition (MODEL.md §7, paper §2.3).
+
+pub mod expint;
+pub mod influence;
+pub mod partition;
+pub mod quadrature;
+
+pub use influence::{InfluenceTable, MovingHalfSpace};
+pub use partition::{Body, HeatModel, HeatSolution};

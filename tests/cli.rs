@@ -1,0 +1,174 @@
+//! The `wheelrail` command line: the JSON contract, curves, fields, and clean errors for bad input.
+
+use std::process::{Command, Output};
+
+fn wheelrail(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wheelrail"))
+        .args(args)
+        .output()
+        .expect("run wheelrail")
+}
+
+fn tmp(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("wheelrail-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+#[test]
+fn point_json_has_the_contract_keys() {
+    let o = wheelrail(&["point", "--json", "--creepage-x", "0.01", "--grid", "16,16"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    for k in [
+        "force_x",
+        "force_y",
+        "spin_moment",
+        "traction_coefficient",
+        "normal_force",
+        "semi_axis_a",
+        "semi_axis_b",
+        "max_temperature",
+        "mean_temperature",
+        "iterations",
+        "converged",
+        "residual",
+    ] {
+        assert!(v.get(k).is_some(), "missing key {k} in {v}");
+    }
+    assert_eq!(v["normal_force"].as_f64(), Some(100e3));
+    assert_eq!(v["converged"].as_bool(), Some(true));
+    assert!(v["force_x"].as_f64().unwrap() < 0.0);
+    // MODEL.md §2 Hertz reference: a = 5.879 mm, b = 10.540 mm
+    assert!((v["semi_axis_a"].as_f64().unwrap() - 5.879e-3).abs() < 6e-6);
+    assert!((v["semi_axis_b"].as_f64().unwrap() - 10.540e-3).abs() < 1.1e-5);
+}
+
+#[test]
+fn invalid_input_is_one_line_exit_2() {
+    for args in [
+        vec!["point", "--normal-force", "-5"],
+        vec!["point", "--wetness", "1.5"],
+        vec!["point", "--creepage-x", "NaN"],
+        vec!["point", "--roughness", "2"],
+        vec!["point", "--grid", "3,30"],
+        vec!["point", "--curvatures", "1.0"],
+    ] {
+        let o = wheelrail(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains("allowed"), "{args:?}: {err}");
+        assert!(!err.contains("panicked"));
+    }
+    let o = wheelrail(&["point", "--no-such-flag"]);
+    assert_eq!(o.status.code(), Some(2));
+    let bad = tmp("bad.toml");
+    std::fs::write(&bad, "[grid]\nnx = \"many\"\n").unwrap();
+    let o = wheelrail(&["point", "--params", bad.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("bad.toml"));
+}
+
+#[test]
+fn params_file_is_read_and_flags_override_it() {
+    let f = tmp("p.toml");
+    std::fs::write(
+        &f,
+        "[friction]\nlaw = \"constant\"\nmu = 0.2\n[grid]\nnx = 16\nny = 16\n",
+    )
+    .unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "point",
+            "--json",
+            "--creepage-x",
+            "0.3",
+            "--params",
+            f.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = wheelrail(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
+    };
+    let v = run(&[]);
+    assert_eq!(v["friction_law"], "constant");
+    let f1 = v["traction_coefficient"].as_f64().unwrap();
+    assert!((f1 - 0.2).abs() < 0.005, "{f1}");
+    let v = run(&["--mu", "0.1"]);
+    assert!((v["traction_coefficient"].as_f64().unwrap() - 0.1).abs() < 0.003);
+}
+
+#[test]
+fn curve_writes_csv_jsonl_and_a_plot() {
+    let png = tmp("curve.png");
+    let o = wheelrail(&[
+        "curve",
+        "--max",
+        "0.02",
+        "--points",
+        "5",
+        "--grid",
+        "12,12",
+        "--plot",
+        png.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 6);
+    assert!(lines[0].starts_with("creepage_x,"));
+    assert!(lines[0].contains("traction_coefficient"));
+    let png_bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&png_bytes[1..4], b"PNG");
+    assert!(png_bytes.len() > 5000);
+    let o = wheelrail(&[
+        "curve", "--over", "spin", "--max", "1", "--points", "3", "--grid", "12,12", "--format",
+        "jsonl",
+    ]);
+    assert!(o.status.success());
+    let rows: Vec<serde_json::Value> = String::from_utf8(o.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(rows.len(), 3);
+    assert_eq!(rows[2]["spin"].as_f64(), Some(1.0));
+    // spin alone gives a lateral force
+    assert!(rows[2]["force_y"].as_f64().unwrap().abs() > 100.0);
+}
+
+#[test]
+fn fields_write_csv_and_heat_maps() {
+    let dir = tmp("maps");
+    let o = wheelrail(&[
+        "fields",
+        "--creepage-x",
+        "0.005",
+        "--grid",
+        "12,12",
+        "--plot",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let header = text.lines().next().unwrap();
+    for k in [
+        "x",
+        "y",
+        "nominal_pressure",
+        "area_fraction",
+        "friction_coefficient",
+        "adhesion_limit",
+        "traction",
+        "slip_velocity",
+        "heat_flux",
+        "temperature",
+        "slipping",
+    ] {
+        assert!(header.split(',').any(|h| h == k), "missing column {k}");
+    }
+    assert!(text.lines().count() > 50);
+    assert!(dir.join("temperature.png").exists());
+}

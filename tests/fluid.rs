@@ -1,0 +1,130 @@
+//! The interfacial fluid in the coupled solver: conservation, complementarity, compatibility (P17), and the
+//! paper's qualitative findings (MODEL.md §8, §11).
+
+use wheelrail::fluid::Regime;
+use wheelrail::{OperatingPoint, Params, Solution, solve};
+
+fn small() -> Params {
+    let mut p = Params::default();
+    p.grid.nx = 20;
+    p.grid.ny = 20;
+    p
+}
+
+fn wet(xi: f64, speed: f64, wetness: f64) -> OperatingPoint {
+    OperatingPoint {
+        creepage_x: xi,
+        speed,
+        wetness,
+        ..Default::default()
+    }
+}
+
+fn solved(p: &Params, pt: &OperatingPoint) -> Solution {
+    let s = solve(p, pt).unwrap();
+    assert!(s.report.converged, "not converged: {:?}", s.report);
+    s
+}
+
+#[test]
+fn wetness_zero_reproduces_the_dry_solver_exactly() {
+    let p = small();
+    let dry = solved(&p, &wet(0.01, 30.0, 0.0));
+    let mut p2 = p.clone();
+    p2.fluid.flow_resistance = 1.0; // fluid parameters must not matter when dry
+    p2.fluid.k_wet = 0.1;
+    let dry2 = solved(&p2, &wet(0.01, 30.0, 0.0));
+    assert_eq!(dry.global, dry2.global);
+    let f = dry.fields.unwrap();
+    assert!(f.regime.iter().all(|r| *r == Regime::Dry));
+    assert!(f.fluid_pressure.iter().all(|p| *p == 0.0));
+    // and a vanishing film is continuous with it
+    let tiny = solved(&p, &wet(0.01, 30.0, 1e-9));
+    let rel = (tiny.global.traction_coefficient - dry.global.traction_coefficient).abs()
+        / dry.global.traction_coefficient;
+    assert!(rel < 1e-3, "w = 1e-9 changes f by {rel}");
+}
+
+#[test]
+fn film_conserves_volume_and_satisfies_complementarity_and_p17() {
+    let p = small();
+    let s = solved(&p, &wet(0.0, 30.0, 1.0));
+    assert!(
+        s.global.fluid_mass_balance_error.abs() < 1e-6,
+        "mass balance {}",
+        s.global.fluid_mass_balance_error
+    );
+    let f = s.fields.unwrap();
+    for k in 0..f.grid.len() {
+        let pf = f.fluid_pressure[k];
+        let a = f.area_fraction[k];
+        let void = f.cell_height[k] - f.metal_height[k];
+        assert!(pf >= 0.0);
+        assert!(f.fluid_height[k] <= void * (1.0 + 1e-9) + 1e-18);
+        if f.fluid_height[k] < void * (1.0 - 1e-6) {
+            assert_eq!(pf, 0.0, "a cell that is not full carries no pressure");
+        }
+        // compatibility P17: p_f (1 − A_m/A_n) + p_m A_m/A_n = p_n
+        let lhs = pf * (1.0 - a) + f.nominal_metal_pressure[k];
+        assert!(
+            (lhs - f.nominal_pressure[k]).abs() <= 1e-6 * f.nominal_pressure[k],
+            "P17 violated in cell {k}: {lhs} vs {}",
+            f.nominal_pressure[k]
+        );
+    }
+}
+
+#[test]
+fn pure_rolling_has_inlet_pressure_and_outlet_boundary_lubrication() {
+    let s = solved(&small(), &wet(0.0, 30.0, 1.0));
+    let f = s.fields.unwrap();
+    // the centre strip, leading edge first
+    let strip = f
+        .grid
+        .strips
+        .iter()
+        .min_by(|a, b| a.y.abs().total_cmp(&b.y.abs()))
+        .unwrap();
+    let cells: Vec<usize> = strip.cells.clone().collect();
+    let half = cells.len() / 2;
+    let inlet_mixed = cells[..half]
+        .iter()
+        .filter(|k| f.regime[**k] == Regime::Mixed)
+        .count();
+    assert!(inlet_mixed > 0, "no fluid pressure in the inlet half");
+    let last = *cells.last().unwrap();
+    assert_eq!(
+        f.regime[last],
+        Regime::Boundary,
+        "outlet must be boundary lubricated"
+    );
+    assert_eq!(f.fluid_pressure[last], 0.0);
+    assert!(s.global.fluid_load_fraction > 0.0);
+}
+
+#[test]
+fn standstill_limit_is_boundary_lubrication_everywhere() {
+    let s = solved(&small(), &wet(0.0, 1e-3, 1.0));
+    assert!(
+        s.global.mixed_lubrication_area_fraction == 0.0,
+        "mixed share {} at V → 0",
+        s.global.mixed_lubrication_area_fraction
+    );
+    assert!(s.global.fluid_load_fraction < 1e-3);
+    let f = s.fields.unwrap();
+    assert!(f.regime.iter().all(|r| *r == Regime::Boundary));
+}
+
+#[test]
+fn traction_falls_monotonically_with_wetness_at_30_m_s() {
+    let p = small();
+    let mut last = f64::INFINITY;
+    for w in [0.0, 0.001, 0.01, 0.1, 0.5, 1.0] {
+        let f = solved(&p, &wet(0.01, 30.0, w)).global.traction_coefficient;
+        assert!(
+            f <= last * (1.0 + 1e-9),
+            "f rose to {f} at w = {w} (was {last})"
+        );
+        last = f;
+    }
+}
