@@ -29,8 +29,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--fmu", default=str(ROOT / "target" / "fmu" / "WheelRailFriction.fmu"))
     ap.add_argument("--out", default=str(ROOT / "target" / "demo"))
-    ap.add_argument("--grid", type=int, default=20, help="grid_size parameter (cells per axis)")
-    ap.add_argument("--steps", type=int, default=30, help="communication steps per run")
+    ap.add_argument("--grid", type=int, default=12, help="grid_size parameter (cells per axis)")
+    ap.add_argument("--steps", type=int, default=15, help="communication steps per run")
     a = ap.parse_args()
     out = pathlib.Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -57,8 +57,8 @@ def main():
                 rows.append([f"{label}", speed, wetness, r["time"], xi] + [r[n] for n in OUTPUTS])
             ax.plot(100 * creepage, result["traction_coefficient"], marker=".",
                     label=f"{label}, V = {speed:g} m/s")
-            print(f"{label:>3}, V = {speed:4.0f} m/s: f(3 %) = {result['traction_coefficient'][-1]:.3f}, "
-                  f"T_max = {result['max_temperature'][-1] - 273.15:.0f} degC")
+            print(f"{label:>3}, V = {speed:4.0f} m/s: f({100 * creepage[-1]:.1f} %) = "
+                  f"{result['traction_coefficient'][-1]:.3f}, T_max = {result['max_temperature'][-1] - 273.15:.0f} degC")
     ax.set_xlabel("longitudinal creepage xi [%]")
     ax.set_ylabel("traction coefficient f = |F_T| / F_N [-]")
     ax.set_title("WheelRailFriction.fmu in fmpy: F_N = 100 kN, creepage ramp")

@@ -39,6 +39,7 @@ CLI_OUTPUTS = {
     "spin_moment": "spin_moment",
     "traction_coefficient": "traction_coefficient",
     "max_temperature": "max_temperature",
+    "fluid_load_fraction": "fluid_load_fraction",
 }
 
 

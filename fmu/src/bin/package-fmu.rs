@@ -115,12 +115,16 @@ fn main() -> Result<()> {
     Ok(())
 }
 
+/// Cells per axis of the documentation's plot.
+const PLOT_GRID: i32 = 12;
+
 const MAIN_HTML: &str = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><meta http-equiv=\"refresh\" \
                          content=\"0; url=index.html\"><title>WheelRailFriction</title></head>\n<body><a \
                          href=\"index.html\">WheelRailFriction documentation</a></body></html>\n";
 
-/// Traction coefficient over longitudinal creepage, dry and wet, at the default parameters, computed by the
-/// FMU's own model (the same code path as `fmi2DoStep`).
+/// Traction coefficient over longitudinal creepage, dry and wet, at the default parameters on a 12 × 12 grid
+/// (wet points of the exact solver take seconds each at the default 30 × 30), computed by the FMU's own model
+/// (the same code path as `fmi2DoStep`).
 fn draw_traction_curves(path: &Path) -> Result<()> {
     let mut model = WheelRailModel::new(None);
     let log = Logger::new(None, false);
@@ -128,10 +132,12 @@ fn draw_traction_curves(path: &Path) -> Result<()> {
     for (label, wetness) in [("dry (w = 0)", 0.0), ("wet (w = 1)", 1.0)] {
         let mut values = Values::start(&VARIABLES);
         values.set(MODE, Value::Integer(2));
+        values.set(GRID_SIZE, Value::Integer(PLOT_GRID));
         values.set(WETNESS, Value::Real(wetness));
         let mut points = Vec::new();
-        for k in 0..=16 {
-            let xi = 0.0025 * f64::from(k);
+        for xi in [
+            0.0, 5e-4, 1e-3, 1.5e-3, 2e-3, 3e-3, 5e-3, 7.5e-3, 0.01, 0.015, 0.02, 0.03,
+        ] {
             values.set(CREEPAGE_LONGITUDINAL, Value::Real(xi));
             model
                 .calculate(&mut values, &log)
@@ -144,7 +150,7 @@ fn draw_traction_curves(path: &Path) -> Result<()> {
         });
     }
     let chart = Chart {
-        title: "Traction-creepage curve (F_N = 100 kN, V = 30 m/s, default parameters)",
+        title: "Traction-creepage curve (F_N = 100 kN, V = 30 m/s, default parameters, 12 x 12 cells)",
         x_label: "longitudinal creepage xi [%]",
         y_label: "traction coefficient f = |F_T|/F_N [-]",
     };
@@ -240,8 +246,8 @@ before the call; <code>fmi2GetReal</code> after changing inputs also returns the
 <li><b>Rolling backwards</b> (<code>rolling_speed</code> &lt; 0): solved in the frame turned by 180&deg; about z
 (&xi;' = &minus;&xi;, &eta;' = &minus;&eta;, &phi;' = &phi;, V' = |V|), results turned back
 (F<sub>x</sub> = &minus;F'<sub>x</sub>, F<sub>y</sub> = &minus;F'<sub>y</sub>, M<sub>z</sub> = M'<sub>z</sub>).
-Without spin the forces are the same for &plusmn;V; the lateral force due to spin changes sign with the rolling
-direction.</li>
+Without spin the forces are the same for &plusmn;V; the lateral force due to spin and the spin moment due to
+creepage (slip zone at the trailing edge) change sign with the rolling direction.</li>
 <li><b>Standstill:</b> |V| below <code>minimum_speed</code> (default {vmin} m/s) is raised to it; never NaN.</li>
 <li><b>Wheel lifted:</b> <code>normal_force</code> &le; 1 mN gives zero forces and moment, f = 0,
 <code>max_temperature</code> = <code>bulk_temperature</code>, no error.</li>
@@ -256,7 +262,8 @@ grid is <code>grid_size</code>&sup2; cells; <code>converged</code> = false (with
 <code>fmi2Warning</code>) flags a coupled iteration that missed its tolerance.</li>
 <li><b>Directional derivatives</b> (<code>fmi2GetDirectionalDerivative</code>, Real outputs with respect to Real
 inputs): one forward difference along the seed, step 10<sup>&minus;4</sup>&middot;max(|u|, nominal) per input,
-solver tolerance 10<sup>&minus;10</sup>.</li>
+solver tolerance 10<sup>&minus;8</sup>. At the stick/slip switching points of the discretised contact (kinks of
+F(&xi;)) this is the one-sided slope in the seed direction.</li>
 <li><b>FMU states</b> hold parameters, inputs, the last outputs, time and state; the serialized form is
 versioned and checksummed, and corrupt bytes are rejected.</li>
 </ul>

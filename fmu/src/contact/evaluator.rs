@@ -85,8 +85,7 @@ impl Evaluator {
                     spin_moment: g.spin_moment,
                     traction_coefficient: g.traction_coefficient,
                     max_temperature: g.max_temperature,
-                    // FLUID: wire `g.fluid_load_fraction` here when the fluid model adds it to GlobalResults.
-                    fluid_load_fraction: 0.0,
+                    fluid_load_fraction: g.fluid_load_fraction,
                     converged: s.report.converged,
                     iterations: s.report.iterations,
                     residual: s.report.residual,
