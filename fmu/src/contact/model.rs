@@ -259,3 +259,60 @@ impl Model for WheelRailModel {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn exact() -> Values {
+        let mut v = Values::start(&VARIABLES);
+        v.set(MODE, Value::Integer(2));
+        v
+    }
+
+    fn error_of(change: impl FnOnce(&mut Values)) -> String {
+        let mut v = exact();
+        change(&mut v);
+        WheelRailModel::new(None)
+            .calculate(&mut v, &Logger::new(None, false))
+            .unwrap_err()
+    }
+
+    #[test]
+    fn errors_name_the_fmu_variables_and_their_fmu_values() {
+        let e = error_of(|v| v.set(GRID_SIZE, Value::Integer(2)));
+        assert!(e.contains("grid_size: 2"), "{e}");
+        // reversed: the library sees the turned creepage -2.5, the message shows the input 2.5
+        let e = error_of(|v| {
+            v.set(ROLLING_SPEED, Value::Real(-30.0));
+            v.set(CREEPAGE_LONGITUDINAL, Value::Real(2.5));
+        });
+        assert!(e.contains("creepage_longitudinal: 2.5 "), "{e}");
+        let e = error_of(|v| v.set(ROUGHNESS, Value::Real(1.5)));
+        assert!(e.contains("roughness: 1.5"), "{e}");
+        assert!(error_of(|v| v.set(MODE, Value::Integer(7))).contains("mode: 7"));
+        assert!(error_of(|v| v.set(MINIMUM_SPEED, Value::Real(0.0))).contains("minimum_speed"));
+    }
+
+    #[test]
+    fn a_lifted_wheel_needs_no_solve() {
+        let mut v = exact();
+        v.set(NORMAL_FORCE, Value::Real(1e-3));
+        v.set(CREEPAGE_LONGITUDINAL, Value::Real(0.5));
+        let status = WheelRailModel::new(None)
+            .calculate(&mut v, &Logger::new(None, false))
+            .unwrap();
+        assert_eq!(status, Status::Ok);
+        assert_eq!(
+            [
+                v.real(FORCE_LONGITUDINAL),
+                v.real(FORCE_LATERAL),
+                v.real(SPIN_MOMENT)
+            ],
+            [0.0; 3]
+        );
+        assert_eq!(v.real(MAX_TEMPERATURE), 293.15);
+        assert!(v.boolean(CONVERGED));
+        assert_eq!(v.integer(EVALUATION_MODE), 2);
+    }
+}
