@@ -115,16 +115,12 @@ fn main() -> Result<()> {
     Ok(())
 }
 
-/// Cells per axis of the documentation's plot.
-const PLOT_GRID: i32 = 12;
-
 const MAIN_HTML: &str = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><meta http-equiv=\"refresh\" \
                          content=\"0; url=index.html\"><title>WheelRailFriction</title></head>\n<body><a \
                          href=\"index.html\">WheelRailFriction documentation</a></body></html>\n";
 
-/// Traction coefficient over longitudinal creepage, dry and wet, at the default parameters on a 12 × 12 grid
-/// (wet points of the exact solver take seconds each at the default 30 × 30), computed by the FMU's own model
-/// (the same code path as `fmi2DoStep`).
+/// Traction coefficient over longitudinal creepage, dry and wet, at the default parameters, computed by the
+/// FMU's own model (the same code path as `fmi2DoStep`).
 fn draw_traction_curves(path: &Path) -> Result<()> {
     let mut model = WheelRailModel::new(None);
     let log = Logger::new(None, false);
@@ -132,7 +128,6 @@ fn draw_traction_curves(path: &Path) -> Result<()> {
     for (label, wetness) in [("dry (w = 0)", 0.0), ("wet (w = 1)", 1.0)] {
         let mut values = Values::start(&VARIABLES);
         values.set(MODE, Value::Integer(2));
-        values.set(GRID_SIZE, Value::Integer(PLOT_GRID));
         values.set(WETNESS, Value::Real(wetness));
         let mut points = Vec::new();
         for xi in [
@@ -150,7 +145,7 @@ fn draw_traction_curves(path: &Path) -> Result<()> {
         });
     }
     let chart = Chart {
-        title: "Traction-creepage curve (F_N = 100 kN, V = 30 m/s, default parameters, 12 x 12 cells)",
+        title: "Traction-creepage curve (F_N = 100 kN, V = 30 m/s, default parameters)",
         x_label: "longitudinal creepage xi [%]",
         y_label: "traction coefficient f = |F_T|/F_N [-]",
     };
