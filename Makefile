@@ -8,7 +8,7 @@ VENV := .venv
 VPY := $(VENV)/bin/python
 FMU := target/fmu/WheelRailFriction.fmu
 
-.PHONY: all build test test-rust test-python lint demo clean venv fmu fmu-lib model-description
+.PHONY: all build test test-rust test-python lint demo clean venv fmu fmu-lib model-description bench
 
 all: build
 
@@ -48,6 +48,10 @@ demo: fmu venv
 	$(VPY) tools/demo.py --fmu $(FMU) --out target/demo
 
 test: lint test-rust test-python
+
+# criterion benchmarks: exact solver (dry, wet), FASTSIM constant mu, Polach, FMU fmi2DoStep
+bench:
+	$(CARGO) bench --workspace
 
 clean:
 	$(CARGO) clean
