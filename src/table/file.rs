@@ -616,6 +616,21 @@ mod tests {
     }
 
     #[test]
+    fn parameters_round_trip_through_the_sidecar_json_bit_for_bit() {
+        // the fingerprint of the parameters read back must equal the recorded one: every f64 must survive
+        // JSON exactly, also with 17 significant digits
+        let mut p = Params::default();
+        p.roughness.k_r = 1.0 / 3.0;
+        p.fluid.h_bl = 0.1e-6 * (1.0 + f64::EPSILON);
+        p.material.conductivity = 0.1 + 0.2;
+        p.fluid.flow_resistance = 1.2345678901234567e-3;
+        let text = serde_json::to_string(&p).unwrap();
+        let back: Params = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, p);
+        assert_eq!(fingerprint(&back), fingerprint(&p));
+    }
+
+    #[test]
     fn moment_scale_follows_hertz_cube_root() {
         let p = Params::default();
         let s = MomentScale::of(&p, 10e3).unwrap();

@@ -51,20 +51,23 @@ pub struct TableOutput {
     pub converged: bool,
 }
 
-/// ∂(F_x, F_y, M_z)/∂(ξ, η, φ, F_N, V, w) of the interpolant, rows F_x [N], F_y [N], M_z [N·m]; columns in
-/// the inputs' SI units. Zero along clamped (out-of-range) inputs.
-pub type Jacobian = [[f64; DIMS]; 3];
+/// Derivatives of the interpolant: rows in the order of [`TableOutput`]'s values (F_x [N], F_y [N],
+/// M_z [N·m], traction coefficient, T_max [K], fluid load fraction), columns ∂/∂(ξ, η, φ, F_N, V, w) in the
+/// inputs' SI units. Zero along clamped (out-of-range) inputs and where an output is clamped.
+pub type Jacobian = [[f64; DIMS]; JACOBIAN_ROWS];
+
+/// Rows of a [`Jacobian`].
+pub const JACOBIAN_ROWS: usize = 6;
 
 /// Interpolated normalised outputs and their derivatives with respect to the (mirrored, clamped)
-/// coordinates (rows: the first three outputs).
+/// coordinates.
 struct Core {
     v: [f64; OUTPUTS],
-    d: Jacobian,
+    d: [[f64; DIMS]; OUTPUTS],
     converged: bool,
 }
 
 /// A loaded table, read-only.
-#[derive(Debug)]
 pub struct Table {
     sidecar: Sidecar,
     axes: Axes,
@@ -77,6 +80,16 @@ pub struct Table {
     all_converged: bool,
     bulk_temperature: f64,
     path: Option<PathBuf>,
+}
+
+impl std::fmt::Debug for Table {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Table")
+            .field("path", &self.path)
+            .field("shape", &self.axes.shape())
+            .field("fingerprint", &self.sidecar.fingerprint)
+            .finish_non_exhaustive()
+    }
 }
 
 impl Table {
@@ -168,9 +181,10 @@ impl Table {
         self.path.as_deref()
     }
 
-    /// Whether the table was built for exactly this parameter set (same fingerprint).
+    /// Whether the table was built for exactly this parameter set (equivalently: the same fingerprint, since
+    /// every value survives the sidecar's JSON bit for bit). Cheap enough to call per evaluation.
     pub fn matches(&self, params: &Params) -> bool {
-        file::fingerprint(params) == self.sidecar.fingerprint
+        self.sidecar.params == *params
     }
 
     /// Whether the operating point lies inside every axis range.
@@ -217,9 +231,9 @@ impl Table {
         // undo the mirrors: output signs S and input signs D (J = S·J'·D)
         let sx = if mx { -1.0 } else { 1.0 };
         let sy = if my { -1.0 } else { 1.0 };
-        let out_sign = [sx, sy, sy];
+        let out_sign = [sx, sy, sy, 1.0, 1.0];
         let in_sign = [sx, sy, sy, 1.0, 1.0, 1.0];
-        let g: [f64; 3] = std::array::from_fn(|o| out_sign[o] * core.v[o]);
+        let g: [f64; OUTPUTS] = std::array::from_fn(|o| out_sign[o] * core.v[o]);
         let f = point.normal_force;
         let scale = &self.sidecar.moment_scale;
         let c = scale.radius(f);
@@ -233,15 +247,29 @@ impl Table {
             in_range: inside.iter().all(|x| *x),
             converged: core.converged,
         };
-        let mut jac = [[0.0; DIMS]; 3];
+        let mut jac = [[0.0; DIMS]; JACOBIAN_ROWS];
         if JAC {
-            let row_scale = [f, f, f * c];
-            for o in 0..3 {
+            // derivatives of the normalised outputs g in the caller's frame
+            let mut dg = [[0.0; DIMS]; OUTPUTS];
+            for o in 0..OUTPUTS {
                 for d in 0..DIMS {
                     if inside[d] {
-                        jac[o][d] = row_scale[o] * out_sign[o] * core.d[o][d] * in_sign[d];
+                        dg[o][d] = out_sign[o] * core.d[o][d] * in_sign[d];
                     }
                 }
+            }
+            let f_t = out.traction_coefficient;
+            let t_free = core.v[3] > self.bulk_temperature;
+            let l_free = core.v[4] > 0.0 && core.v[4] < 1.0;
+            for d in 0..DIMS {
+                jac[0][d] = f * dg[0][d];
+                jac[1][d] = f * dg[1][d];
+                jac[2][d] = f * c * dg[2][d];
+                if f_t > 0.0 {
+                    jac[3][d] = (g[0] * dg[0][d] + g[1] * dg[1][d]) / f_t;
+                }
+                jac[4][d] = if t_free { dg[3][d] } else { 0.0 };
+                jac[5][d] = if l_free { dg[4][d] } else { 0.0 };
             }
             // the normalisation's own F_N dependence: F = F_N·g, M = F_N·c(F_N)·g, c ∝ F_N^e
             jac[0][FORCE] += g[0];
@@ -282,7 +310,7 @@ impl Table {
         }
         // stage 0: values [i][j][k][o] and (F_N, V, w)-derivatives [i][j][k][o][a] at the window nodes
         let mut c0 = [[[[0.0; OUTPUTS]; 4]; 4]; 4];
-        let mut t0 = [[[[[0.0; 3]; 3]; 4]; 4]; 4];
+        let mut t0 = [[[[[0.0; 3]; OUTPUTS]; 4]; 4]; 4];
         let mut converged = true;
         for i in 0..4 {
             let gi = cx.start + i as isize;
@@ -308,7 +336,7 @@ impl Table {
                             inner[o] += wl[c] * row[o];
                         }
                         if JAC {
-                            for o in 0..3 {
+                            for o in 0..OUTPUTS {
                                 for a in 0..3 {
                                     inner_d[o][a] += dl[a][c] * row[o];
                                 }
@@ -331,13 +359,13 @@ impl Table {
         }
         // stage 1: along φ; derivatives (F_N, V, w, φ)
         let mut c1 = [[[0.0; OUTPUTS]; 4]; 4];
-        let mut t1 = [[[[0.0; 4]; 3]; 4]; 4];
+        let mut t1 = [[[[0.0; 4]; OUTPUTS]; 4]; 4];
         for i in 0..4 {
             for j in 0..4 {
                 for o in 0..OUTPUTS {
                     let f = cp.eval(&std::array::from_fn(|k| c0[i][j][k][o]));
                     c1[i][j][o] = f.v;
-                    if JAC && o < 3 {
+                    if JAC {
                         for a in 0..3 {
                             t1[i][j][o][a] = (0..4).map(|k| f.w[k] * t0[i][j][k][o][a]).sum();
                         }
@@ -348,12 +376,12 @@ impl Table {
         }
         // stage 2: along η; derivatives (F_N, V, w, φ, η)
         let mut c2 = [[0.0; OUTPUTS]; 4];
-        let mut t2 = [[[0.0; 5]; 3]; 4];
+        let mut t2 = [[[0.0; 5]; OUTPUTS]; 4];
         for i in 0..4 {
             for o in 0..OUTPUTS {
                 let f = cy.eval(&std::array::from_fn(|j| c1[i][j][o]));
                 c2[i][o] = f.v;
-                if JAC && o < 3 {
+                if JAC {
                     for a in 0..4 {
                         t2[i][o][a] = (0..4).map(|j| f.w[j] * t1[i][j][o][a]).sum();
                     }
@@ -363,11 +391,11 @@ impl Table {
         }
         // stage 3: along ξ
         let mut v = [0.0; OUTPUTS];
-        let mut d = [[0.0; DIMS]; 3];
+        let mut d = [[0.0; DIMS]; OUTPUTS];
         for o in 0..OUTPUTS {
             let f = cx.eval(&std::array::from_fn(|i| c2[i][o]));
             v[o] = f.v;
-            if JAC && o < 3 {
+            if JAC {
                 let t: [f64; 5] =
                     std::array::from_fn(|a| (0..4).map(|i| f.w[i] * t2[i][o][a]).sum());
                 d[o] = [f.dv, t[4], t[3], t[0], t[1], t[2]];
@@ -530,12 +558,19 @@ mod tests {
                 cm[d] -= h;
                 let (fp, fm) = (symmetric_multilinear(&cp), symmetric_multilinear(&cm));
                 let phys = |c: &[f64; DIMS], v: &[f64; OUTPUTS]| {
-                    [c[3] * v[0], c[3] * v[1], c[3] * scale.radius(c[3]) * v[2]]
+                    [
+                        c[3] * v[0],
+                        c[3] * v[1],
+                        c[3] * scale.radius(c[3]) * v[2],
+                        v[0].hypot(v[1]),
+                        v[3],
+                        v[4],
+                    ]
                 };
                 let (pp, pm) = (phys(&cp, &fp), phys(&cm, &fm));
-                for o in 0..3 {
+                for o in 0..JACOBIAN_ROWS {
                     let fd = (pp[o] - pm[o]) / (2.0 * h);
-                    let tol = 1e-6 * (fd.abs() + [f, f, f * r][o] * 1e-3);
+                    let tol = 1e-6 * (fd.abs() + [f, f, f * r, 1.0, 300.0, 1.0][o] * 1e-3);
                     assert!(
                         (j[o][d] - fd).abs() < tol.max(1e-9),
                         "∂{o}/∂{d} at {c:?}: {} vs {fd}",
@@ -571,9 +606,13 @@ mod tests {
                     (p.force_x - m.force_x) / (2.0 * h),
                     (p.force_y - m.force_y) / (2.0 * h),
                     (p.spin_moment - m.spin_moment) / (2.0 * h),
+                    (p.traction_coefficient - m.traction_coefficient) / (2.0 * h),
+                    (p.max_temperature - m.max_temperature) / (2.0 * h),
+                    (p.fluid_load_fraction - m.fluid_load_fraction) / (2.0 * h),
                 ];
-                for o in 0..3 {
-                    let scale = [c[3], c[3], c[3] * 0.01][o] / [0.05, 0.02, 1.0, 1e5, 20.0, 1.0][d];
+                for o in 0..JACOBIAN_ROWS {
+                    let scale = [c[3], c[3], c[3] * 0.01, 1.0, 50.0, 0.3][o]
+                        / [0.05, 0.02, 1.0, 1e5, 20.0, 1.0][d];
                     assert!(
                         (j[o][d] - fd[o]).abs() < 1e-5 * scale.max(fd[o].abs()),
                         "∂{o}/∂{d} at {c:?}: {} vs {}",
