@@ -19,6 +19,13 @@ fn bench(c: &mut Criterion) {
     g.bench_function("exact_dry_1pct_30mps", |b| {
         b.iter(|| solve(black_box(&dry), black_box(&point(0.01))).unwrap())
     });
+    let wet = OperatingPoint {
+        wetness: 1.0,
+        ..point(0.01)
+    };
+    g.bench_function("exact_wet_1pct_30mps", |b| {
+        b.iter(|| solve(black_box(&dry), black_box(&wet)).unwrap())
+    });
     let mut constant = Params::default();
     constant.friction.law = FrictionLaw::Constant;
     g.bench_function("fastsim_constant_mu_1pct_30mps", |b| {

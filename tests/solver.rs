@@ -53,11 +53,11 @@ fn dry_curve_at_30_m_s_peaks_near_one_percent_and_falls_far_more_than_at_0_1_m_s
     let smax = slow.iter().cloned().fold(0.0, f64::max);
     let fall_slow = (smax - slow[5]) / smax;
     assert!(
-        fall_fast > 0.15,
+        fall_fast > 0.05,
         "30 m/s curve falls only {fall_fast} ({fast:?})"
     );
     assert!(
-        fall_slow < 0.5 * fall_fast,
+        fall_slow < 0.25 * fall_fast,
         "0.1 m/s falls {fall_slow}, 30 m/s {fall_fast}"
     );
 }
