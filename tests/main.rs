@@ -2,4 +2,5 @@
 
 mod cli;
 mod fluid;
+mod paper;
 mod solver;

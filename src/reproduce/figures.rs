@@ -3,22 +3,24 @@
 //! Conditions are the paper's Table 1 (UIC60/S1002 running surface, Hertz mapped to a parabola, F_N = 100 kN,
 //! V = 30 m/s, k_r = 0.5, water ξ_f = 0.012 Pa·s, k_wet = 0.4, ψ_b = 0.9995) unless a figure varies them.
 //! "Water" is a flooded inlet (wetness 1, MODEL.md §8). The boundary-lubricated ("BL") curves of Figs. 17
-//! and 21 use the thinnest film that fully applies k_wet (h_f0 = h_bl, MODEL.md §5): it fits into the
-//! asperity voids, so no fluid pressure builds and the whole contact stays boundary lubricated (the CSV
-//! reports the mixed-lubrication share to show it).
+//! and 21 use a film just thick enough to apply k_wet fully (h_f0 = 1.2·h_bl, MODEL.md §5): it fits into
+//! the asperity voids, so no fluid pressure builds and the contact stays boundary lubricated (the CSV
+//! reports the mixed-lubrication share to show where it does).
 
 use super::fmax::{solve_converged, traction_maximum};
 use super::{Figure, FigureId, Plot, Progress, Settings, Table};
 use crate::contact::ContactGrid;
 use crate::error::{Error, Result};
 use crate::fluid::{Regime, base_height};
-use crate::microcontact::Microcontact;
+use crate::microcontact::{Microcontact, contact_probability};
 use crate::params::{OperatingPoint, Params};
 use crate::plot::Series;
 use crate::solver::{Fields, Solution, normal_contact};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+/// Inlet film of the boundary-lubricated curves in units of h_bl (see [`boundary_lubrication_wetness`]).
+const BL_FILM: f64 = 1.2;
 /// Speed of the "V → 0" curve of Fig. 14 [m/s].
 const CREEP_SPEED: f64 = 0.01;
 /// Rolling speeds of Figs. 16 and 17 [m/s].
@@ -46,6 +48,11 @@ const MPA: f64 = 1e-6;
 /// Formats a number for the CSV (shortest representation that round-trips).
 fn num(v: f64) -> String {
     format!("{v}")
+}
+
+/// A creepage in per cent for the CSV, rounded to 1e-9 % (no binary noise like 7.000000000000001).
+fn percent(xi: f64) -> String {
+    num((xi * 100.0 * 1e9).round() / 1e9)
 }
 
 pub(super) fn compute(id: FigureId, s: &Settings, progress: Progress) -> Result<Figure> {
@@ -171,7 +178,7 @@ fn fig7(s: &Settings) -> Result<Figure> {
     let zs: Vec<f64> = (0..=n)
         .map(|i| -z_max + 2.0 * z_max * i as f64 / n as f64)
         .collect();
-    let psi = |z: f64, z_s: f64| 0.5 * libm::erfc(z / (std::f64::consts::SQRT_2 * z_s));
+    let psi = contact_probability;
     let mut columns = vec!["z_um".to_string()];
     columns.extend(kr.iter().map(|k| format!("surface_fraction_k_r_{k}")));
     let rows = zs
@@ -501,6 +508,15 @@ fn fig14(s: &Settings) -> Result<Figure> {
     })
 }
 
+/// Wetness of the boundary-lubricated ("BL") curves of Figs. 17 and 21: inlet film h_f0 = 1.2·h_bl. The film
+/// is carried through the contact at the mean speed, so a cell holds l_f = h_f0·v_r/v_m = h_f0·(1 − ξ/2)
+/// (MODEL.md §8): with 1.2·h_bl every cell keeps l_f ≥ h_bl, hence the full k_wet (MODEL.md §5), up to
+/// ξ = 1/3, while the film is thin enough to fit into the asperity voids of the Table-1 contact, so that no
+/// fluid pressure builds (above about 120 kN some centre cells fill and carry a little pressure).
+pub fn boundary_lubrication_wetness(p: &Params) -> f64 {
+    (BL_FILM * p.fluid.h_bl / p.fluid.h_f_max).min(1.0)
+}
+
 /// Dry contact, flooded inlet (water), or a film that only boundary-lubricates.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Film {
@@ -510,12 +526,11 @@ enum Film {
 }
 
 impl Film {
-    /// Wetness of the film: 0, 1, or h_f0 = h_bl (the thinnest film with the full k_wet, MODEL.md §5).
     fn wetness(self, p: &Params) -> f64 {
         match self {
             Film::Dry => 0.0,
             Film::Water => 1.0,
-            Film::Boundary => (p.fluid.h_bl / p.fluid.h_f_max).min(1.0),
+            Film::Boundary => boundary_lubrication_wetness(p),
         }
     }
 
@@ -577,7 +592,7 @@ fn fig15(s: &Settings, progress: Progress) -> Result<Figure> {
             label(cases[c]),
             num(cases[c].1),
             num(cases[c].0.wetness(&s.params)),
-            num(xi * 100.0),
+            percent(xi),
             num(g.traction_coefficient),
             num(g.max_temperature),
             num(g.fluid_load_fraction),
@@ -771,7 +786,7 @@ fn fmax_study(st: &Study, s: &Settings, progress: Progress) -> Result<Figure> {
                 st.id,
                 jobs.len(),
                 curve.film.name(),
-                label(curve),
+                st.by.label(curve.value),
                 st.x.label(x),
                 m.traction,
                 m.creepage * 100.0
@@ -798,7 +813,7 @@ fn fmax_study(st: &Study, s: &Settings, progress: Progress) -> Result<Figure> {
             num(st.by.shown(curve.value)),
             num(st.x.shown(x)),
             num(m.traction),
-            num(m.creepage * 100.0),
+            percent(m.creepage),
             m.at_range_end.to_string(),
             num(g.max_temperature),
             num(g.fluid_load_fraction),

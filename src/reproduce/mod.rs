@@ -10,6 +10,7 @@
 mod figures;
 pub mod fmax;
 
+pub use figures::boundary_lubrication_wetness;
 pub use fmax::{MaxSearch, TractionMaximum, solve_converged, traction_maximum};
 
 use crate::contact::ContactGrid;
