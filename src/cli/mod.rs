@@ -98,6 +98,9 @@ pub struct ModelArgs {
     /// Inlet film height at wetness 1, h_f,max [m] [default: 20e-6].
     #[arg(long, allow_hyphen_values = true)]
     h_f_max: Option<f64>,
+    /// Fluid height over which k blends from k_dry to k_wet, h_bl [m] [default: 0.1e-6].
+    #[arg(long, allow_hyphen_values = true)]
+    h_bl: Option<f64>,
     /// Parameter file (TOML); flags override its values.
     #[arg(long, value_name = "FILE.toml")]
     params: Option<PathBuf>,
@@ -187,6 +190,9 @@ impl ModelArgs {
         }
         if let Some(v) = self.h_f_max {
             p.fluid.h_f_max = v;
+        }
+        if let Some(v) = self.h_bl {
+            p.fluid.h_bl = v;
         }
         p.validate()?;
         Ok(p)

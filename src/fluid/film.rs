@@ -145,10 +145,16 @@ impl Faces {
 
 /// Harmonic mean of two half-cell conductances (series resistances), zero if either is zero.
 fn harmonic(a: f64, b: f64) -> f64 {
+    harmonic_with_slope(a, b).0
+}
+
+/// Harmonic mean H(a, b) = 2ab/(a + b) and its derivative ∂H/∂a = 2b²/(a + b)².
+fn harmonic_with_slope(a: f64, b: f64) -> (f64, f64) {
     if a > 0.0 && b > 0.0 {
-        2.0 * a * b / (a + b)
+        let s = a + b;
+        (2.0 * a * b / s, 2.0 * b * b / (s * s))
     } else {
-        0.0
+        (0.0, 0.0)
     }
 }
 
@@ -183,11 +189,15 @@ pub fn solve_film(pr: &FilmProblem, warm: Option<&FilmSolution>) -> Result<FilmS
         _ => (pr.dry_separation.to_vec(), vec![0.0; n], vec![0.0; n]),
     };
     let mut g: Vec<f64> = d.iter().map(|x| void(*x).powi(3)).collect();
-    // pressure of a full cell at separation d (P17) and its void height
+    // pressure of a full cell at separation d (P17), its d-derivative, void height and its slope
     let full_state = |k: usize, d: f64| {
         let m = pr.micro.evaluate(d, &pr.materials[k]);
-        let p = ((pr.nominal_pressure[k] - m.load) / (1.0 - m.area_fraction).max(1e-12)).max(0.0);
-        (p, void(d))
+        let geo = CellGeometry::at(d, z_s, pr.base_height);
+        let open = (1.0 - m.area_fraction).max(1e-12);
+        let p = ((pr.nominal_pressure[k] - m.load) / open).max(0.0);
+        // dp/dd = (−dL/dd + p·dA/dd)/(1 − A)
+        let dp = (-m.d_load_d_separation + p * m.d_area_d_separation) / open;
+        (p, dp, geo.void_height, geo.void_slope)
     };
     let film_scale = pr.inlet_film.max(1e-3 * z_s);
     let mut sweeps = 0;
@@ -210,19 +220,24 @@ pub fn solve_film(pr: &FilmProblem, warm: Option<&FilmSolution>) -> Result<FilmS
                 };
                 let d_dry = pr.dry_separation[k];
                 // volume balance of the cell as a function of its separation, full: l_f = l_v(d)
+                // and its derivative in d
                 let balance = |dk: f64| {
-                    let (pk, lv) = full_state(k, dk);
+                    let (pk, dpk, lv, dlv) = full_state(k, dk);
                     let gk = lv * lv * lv;
+                    let dgk = 3.0 * lv * lv * dlv;
                     let mut r = q_in - vm * hy * lv - f.edge * gk * pk;
+                    let mut dr = -vm * hy * dlv - f.edge * (dgk * pk + gk * dpk);
                     for &(nb, cf) in &f.neighbours {
-                        r += cf * harmonic(gk, g[nb]) * (p[nb] - pk);
+                        let (h, dh) = harmonic_with_slope(gk, g[nb]);
+                        r += cf * h * (p[nb] - pk);
+                        dr += cf * (dh * dgk * (p[nb] - pk) - h * dpk);
                     }
-                    r
+                    (r, dr)
                 };
-                let (d_new, p_new, lf_new) = if balance(d_dry) > 0.0 {
+                let (d_new, p_new, lf_new) = if balance(d_dry).0 > 0.0 {
                     // more fluid arrives than the cell holds at d_dry: full and pressurised
-                    let dk = root_decreasing(balance, d_dry, 0.05 * z_s, 1e-13 * z_s)?;
-                    let (pk, lv) = full_state(k, dk);
+                    let dk = root_decreasing(balance, d_dry, d[k], z_s, 1e-13 * z_s)?;
+                    let (pk, _, lv, _) = full_state(k, dk);
                     (dk, pk, lv)
                 } else {
                     // unpressurised: the film height follows from the inflow
@@ -288,64 +303,50 @@ pub fn solve_film(pr: &FilmProblem, warm: Option<&FilmSolution>) -> Result<FilmS
     Ok(sol)
 }
 
-/// Root of a function that is positive at `lo` and decreases to negative values: the bracket is grown from
-/// `lo` in doubling steps, then closed by the Illinois variant of regula falsi, to `tol` in the argument.
-fn root_decreasing(f: impl Fn(f64) -> f64, lo: f64, step: f64, tol: f64) -> Result<f64> {
-    let (mut a, mut fa) = (lo, f(lo));
+/// Root of a function that is positive at `lo` and decreases to negative values, given with its derivative:
+/// Newton from the warm start `guess` (clipped into the bracket), safeguarded by bisection; the bracket is
+/// grown from `lo` in doubling steps of `step` when needed. Converges to `tol` in the argument.
+fn root_decreasing(
+    f: impl Fn(f64) -> (f64, f64),
+    lo: f64,
+    guess: f64,
+    step: f64,
+    tol: f64,
+) -> Result<f64> {
+    let mut a = lo; // f(a) > 0
+    let mut b = f64::INFINITY; // f(b) < 0 once found
+    let mut x = if guess > lo { guess } else { lo + 0.01 * step };
     let mut h = step;
-    let (mut b, mut fb) = (lo + h, f(lo + h));
-    let mut expansions = 0;
-    while fb > 0.0 {
-        a = b;
-        fa = fb;
-        h *= 2.0;
-        b = lo + h;
-        fb = f(b);
-        expansions += 1;
-        if expansions > 80 || !fb.is_finite() {
-            return Err(Error::Numerical {
-                stage: "fluid",
-                reason: format!("no separation balances the cell (last d = {b:e} m)"),
-            });
+    for _ in 0..300 {
+        let (fx, dfx) = f(x);
+        if !fx.is_finite() {
+            break;
         }
-    }
-    let mut side = 0;
-    for _ in 0..200 {
-        let c = if fa.is_finite() && fb.is_finite() && fa != fb {
-            (a * fb - b * fa) / (fb - fa)
+        if fx == 0.0 {
+            return Ok(x);
+        }
+        if fx > 0.0 {
+            a = x;
         } else {
+            b = x;
+        }
+        let newton = x - fx / dfx;
+        let next = if dfx < 0.0 && newton > a && newton < b {
+            newton
+        } else if b.is_finite() {
             0.5 * (a + b)
-        };
-        let c = if c > a.min(b) && c < a.max(b) {
-            c
         } else {
-            0.5 * (a + b)
+            // no sign change yet: grow the step from the last positive point
+            h *= 2.0;
+            a + h
         };
-        let fc = f(c);
-        if fc == 0.0 {
-            return Ok(c);
+        if (next - x).abs() <= tol || (b - a) <= tol {
+            return Ok(next);
         }
-        if fc > 0.0 {
-            a = c;
-            fa = fc;
-            if side == 1 {
-                fb *= 0.5;
-            }
-            side = 1;
-        } else {
-            b = c;
-            fb = fc;
-            if side == -1 {
-                fa *= 0.5;
-            }
-            side = -1;
-        }
-        if (b - a).abs() <= tol {
-            return Ok(0.5 * (a + b));
-        }
+        x = next;
     }
     Err(Error::Numerical {
         stage: "fluid",
-        reason: "cell separation root did not converge".into(),
+        reason: format!("no separation balances the cell (bracket {a:e} .. {b:e} m)"),
     })
 }
