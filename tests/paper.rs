@@ -332,6 +332,37 @@ fn fig17_boundary_lubrication_at_standstill_and_no_speed_dependence_under_it() {
     );
 }
 
+/// Fig. 17 (text): with speed the fluid pressure grows, the separation increases (less metallic area) and the
+/// pressure spreads downstream towards a more symmetric distribution.
+#[test]
+fn fig17_fluid_pressure_grows_and_spreads_downstream_with_speed() {
+    let stats = |v: f64| {
+        let s = rolling(0.5, v, 1.0);
+        let f = fields(&s);
+        let total: f64 = f.fluid_pressure.iter().sum();
+        let centroid = f
+            .grid
+            .cells
+            .iter()
+            .zip(&f.fluid_pressure)
+            .map(|(c, p)| c.x * p)
+            .sum::<f64>()
+            / total
+            / f.grid.a;
+        let area = f.area_fraction.iter().sum::<f64>() / f.grid.len() as f64;
+        (total, centroid, area)
+    };
+    let runs: Vec<(f64, f64, f64)> = [5.0, 30.0, 60.0].iter().map(|&v| stats(v)).collect();
+    for w in runs.windows(2) {
+        let ((p0, c0, a0), (p1, c1, a1)) = (w[0], w[1]);
+        assert!(p1 > p0, "fluid pressure does not grow: {runs:?}");
+        assert!(a1 < a0, "metallic area does not fall: {runs:?}");
+        assert!(c1 < c0, "pressure does not move downstream: {runs:?}");
+    }
+    // the pressure sits in the front part of the contact (inlet side)
+    assert!(runs.iter().all(|r| r.1 > 0.0), "{runs:?}");
+}
+
 /// Fig. 18: dry f_max falls with roughness (more plastic asperities, less metallic area).
 #[test]
 fn fig18_dry_fmax_falls_with_roughness() {

@@ -18,7 +18,7 @@ pub struct ReproduceArgs {
     #[arg(long, value_name = "FIG", value_delimiter = ',')]
     only: Vec<String>,
     /// Grid cells NX,NY of every solve (coarse by default: the f_max sweeps take about two thousand solves).
-    #[arg(long, value_name = "NX,NY", default_value = "16,16")]
+    #[arg(long, value_name = "NX,NY", default_value = "20,20")]
     grid: String,
     /// Parameter file (TOML) replacing the project defaults (its grid is overridden by --grid).
     #[arg(long, value_name = "FILE.toml")]

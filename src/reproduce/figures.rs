@@ -376,7 +376,7 @@ fn fig11(s: &Settings) -> Result<Figure> {
     let pf = scaled(&f.fluid_pressure, MPA);
     Ok(map_figure(
         FigureId::Fig11,
-        "fluid pressure p_f [MPa], pure rolling, water, 30 m/s",
+        "fluid pressure p_f, pure rolling, water, 30 m/s",
         f,
         ("p_f [MPa]", pf.clone()),
         vec![
@@ -394,7 +394,7 @@ fn fig12(s: &Settings) -> Result<Figure> {
     let pm = scaled(&f.nominal_metal_pressure, MPA);
     Ok(map_figure(
         FigureId::Fig12,
-        "nominal metallic pressure p_m·A_m/A_n [MPa], pure rolling, water, 30 m/s",
+        "nominal metallic pressure, pure rolling, water, 30 m/s",
         f,
         ("p_m·A_m/A_n [MPa]", pm.clone()),
         vec![

@@ -131,11 +131,11 @@ pub struct Settings {
 }
 
 impl Default for Settings {
-    /// Project defaults on a 16 × 16 grid (coarse: the sweeps need about two thousand solves).
+    /// Project defaults on a 20 × 20 grid (coarse: the f_max sweeps need about two thousand solves).
     fn default() -> Self {
         let mut params = Params::default();
-        params.grid.nx = 16;
-        params.grid.ny = 16;
+        params.grid.nx = 20;
+        params.grid.ny = 20;
         Self {
             params,
             search: MaxSearch::default(),
@@ -261,6 +261,13 @@ pub type Progress<'a> = &'a (dyn Fn(&str) + Sync);
 /// f_max search.
 pub fn compute(id: FigureId, settings: &Settings, progress: Progress) -> Result<Figure> {
     settings.params.validate()?;
+    if settings.params.friction.law != crate::params::FrictionLaw::Tomberger {
+        return Err(Error::OutOfRange {
+            name: "friction.law".into(),
+            value: settings.params.friction.law.to_string(),
+            allowed: "tomberger (the paper's figures are of its model)".into(),
+        });
+    }
     settings.search.validate()?;
     figures::compute(id, settings, progress)
 }
@@ -285,6 +292,14 @@ mod tests {
         for bad in ["6", "fig", "22", "x", ""] {
             assert!(FigureId::parse(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn only_the_papers_model_is_reproduced() {
+        let mut s = Settings::default();
+        s.params.friction.law = crate::params::FrictionLaw::Polach;
+        let e = compute(FigureId::Fig10, &s, &|_| {}).unwrap_err();
+        assert!(e.to_string().contains("friction.law"), "{e}");
     }
 
     #[test]
