@@ -1,12 +1,14 @@
 # wheelrail — build, test, demo. `make test` runs every test (Rust and Python); `make demo` builds the FMU
-# and runs it in a short fmpy co-simulation. The Python venv is created inside the repo (.venv, git-ignored).
+# and runs it in a short fmpy co-simulation. The Python venv is created inside the repo (.venv, git-ignored)
+# from the pinned requirements.txt.
 
 CARGO ?= cargo
 PYTHON ?= python3
 VENV := .venv
 VPY := $(VENV)/bin/python
+FMU := target/fmu/WheelRailFriction.fmu
 
-.PHONY: all build test test-rust lint demo clean
+.PHONY: all build test test-rust test-python lint demo clean venv fmu fmu-lib model-description bench
 
 all: build
 
@@ -17,10 +19,39 @@ lint:
 	$(CARGO) fmt --all -- --check
 	$(CARGO) clippy --workspace --all-targets -- -D warnings
 
-test-rust:
+# the FMU's shared library, which tests/fmu.rs loads
+fmu-lib:
+	$(CARGO) build --release -p wheelrail-fmu
+
+test-rust: fmu-lib
 	$(CARGO) test --release --workspace
 
-test: lint test-rust
+# regenerate modelDescription/modelDescription.xml from the variable table (a test checks it is current)
+model-description:
+	$(CARGO) run --release -p wheelrail-fmu --bin package-fmu -- --model-description modelDescription/modelDescription.xml
+
+# target/fmu/WheelRailFriction.fmu
+fmu: fmu-lib
+	./target/release/package-fmu --library target/release/libWheelRailFriction.so --out $(FMU)
+
+$(VENV)/.installed: requirements.txt
+	$(PYTHON) -m venv $(VENV)
+	$(VPY) -m pip install --quiet --disable-pip-version-check -r requirements.txt
+	touch $@
+
+venv: $(VENV)/.installed
+
+test-python: build fmu venv
+	$(VPY) -m pytest -q tests/fmpy
+
+demo: fmu venv
+	$(VPY) tools/demo.py --fmu $(FMU) --out target/demo
+
+test: lint test-rust test-python
+
+# criterion benchmarks: exact solver (dry, wet), FASTSIM constant mu, Polach, FMU fmi2DoStep
+bench:
+	$(CARGO) bench --workspace
 
 clean:
 	$(CARGO) clean

@@ -39,5 +39,10 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+criterion_group! {
+    name = benches;
+    // no plots: criterion's plotting backend needs system fonts
+    config = Criterion::default().without_plots();
+    targets = bench
+}
 criterion_main!(benches);

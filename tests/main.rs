@@ -2,5 +2,6 @@
 
 mod cli;
 mod fluid;
+mod fmu;
 mod paper;
 mod solver;

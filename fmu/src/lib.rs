@@ -1,1 +1,23 @@
-//! FMI 2.0 boundary (see issue 4).
+//! # WheelRailFriction FMU
+//!
+//! The wheel–rail friction model of the `wheelrail` library as an FMI 2.0 Co-Simulation FMU
+//! (modelIdentifier `WheelRailFriction`): one instance per wheel–rail contact, quasi-static (the outputs
+//! are a function of the current inputs and parameters), any number of instances per process on any
+//! threads.
+//!
+//! - [`fmi2`]: a generic FMI 2.0 co-simulation layer (C types, state machine, instance, logging, FMU states,
+//!   finite-difference derivatives, `modelDescription.xml`), independent of this model;
+//! - [`contact`]: the variable table and the mapping to the library (no physics of its own);
+//! - `exports`: the exported C functions, one call each into [`fmi2::api`].
+//!
+//! `package-fmu` (in `src/bin`) writes `modelDescription.xml` and packs `WheelRailFriction.fmu`.
+#![allow(non_snake_case)] // the library name is the FMI modelIdentifier WheelRailFriction
+
+pub mod contact;
+pub mod exports;
+pub mod fmi2;
+
+/// The `modelDescription.xml` of this FMU.
+pub fn model_description() -> String {
+    fmi2::description::model_description(&contact::variables::INFO)
+}

@@ -1,0 +1,17 @@
+//! A generic FMI 2.0 Co-Simulation layer: C types, state machine, instance, logging, FMU states, derivative
+//! helper and `modelDescription.xml` generation, for any [`model::Model`].
+
+pub mod api;
+pub mod derivative;
+pub mod description;
+pub mod ffi;
+pub mod instance;
+pub mod logging;
+pub mod model;
+pub mod resources;
+pub mod snapshot;
+pub mod state;
+pub mod variables;
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,88 @@
+//! The model contract: what a model provides to the generic FMI layer. The layer owns the instance, the
+//! state machine, the values of all variables, logging, FMU states and the C boundary; a model only
+//! describes itself and computes its outputs from the current values.
+
+use super::ffi::Status;
+use super::logging::Logger;
+use super::variables::{Values, Variable};
+use std::path::PathBuf;
+
+/// A unit of `<UnitDefinitions>`: name and SI base-unit exponents (kg, m, s, K).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Unit {
+    /// Unit name as used in the variables' `unit` attribute.
+    pub name: &'static str,
+    /// Exponent of kilogram.
+    pub kg: i32,
+    /// Exponent of metre.
+    pub m: i32,
+    /// Exponent of second.
+    pub s: i32,
+    /// Exponent of kelvin.
+    pub k: i32,
+}
+
+/// `<DefaultExperiment>`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DefaultExperiment {
+    /// Start time [s].
+    pub start_time: f64,
+    /// Stop time [s].
+    pub stop_time: f64,
+    /// Communication step size [s].
+    pub step_size: f64,
+}
+
+/// Everything `modelDescription.xml` says about a model besides the generic layer's capability flags.
+#[derive(Debug, Clone, Copy)]
+pub struct ModelInfo {
+    /// `modelName`.
+    pub model_name: &'static str,
+    /// `modelIdentifier`: the shared library's file stem.
+    pub model_identifier: &'static str,
+    /// `description`.
+    pub description: &'static str,
+    /// `author`.
+    pub author: &'static str,
+    /// `version` of the model (the crate version).
+    pub version: &'static str,
+    /// `license`.
+    pub license: &'static str,
+    /// `generationTool`.
+    pub generation_tool: &'static str,
+    /// Units used by the variables.
+    pub units: &'static [Unit],
+    /// The variable table.
+    pub variables: &'static [Variable],
+    /// The default experiment.
+    pub default_experiment: DefaultExperiment,
+}
+
+/// A model behind the generic FMI 2.0 co-simulation layer. Every output is a function of the parameters and
+/// the current inputs (no states): the layer recomputes outputs whenever a value changed.
+pub trait Model: Sized {
+    /// The model description.
+    fn info() -> &'static ModelInfo;
+
+    /// A new model for an instance; `resources` is the FMU's unpacked `resources/` directory, if known.
+    fn new(resources: Option<PathBuf>) -> Self;
+
+    /// Forgets what the model remembers across calls (issued one-time warnings, caches); `fmi2Reset`.
+    fn reset(&mut self);
+
+    /// Computes every output from the parameters and inputs in `values` and writes them into `values`.
+    /// Returns `Status::Ok` or `Status::Warning` (after logging the warning); `Err` is a message for
+    /// `fmi2Error`.
+    fn calculate(&mut self, values: &mut Values, log: &Logger) -> Result<Status, String>;
+
+    /// The directional derivative Σ_j ∂y_i/∂u_j·seed_j of the Real outputs `unknowns` with respect to the
+    /// Real inputs `knowns` (table indices) at the current values.
+    fn directional_derivative(
+        &mut self,
+        values: &Values,
+        unknowns: &[usize],
+        knowns: &[usize],
+        seed: &[f64],
+        log: &Logger,
+    ) -> Result<Vec<f64>, String>;
+}

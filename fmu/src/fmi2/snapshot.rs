@@ -1,0 +1,285 @@
+//! FMU states (`fmi2GetFMUstate`, `fmi2SetFMUstate`) and their versioned byte serialization.
+//!
+//! A snapshot holds everything that defines an instance: the values of all variables (parameters, inputs
+//! and the last outputs), whether the outputs are stale, the communication time and the state-machine state.
+//!
+//! Byte layout (little-endian), format version 1:
+//! `b"FMI2SNAP"`, version u32, GUID (u32 length + UTF-8), state u16, time f64, stale u8, variable count u32,
+//! then per variable in table order: Real f64 | Integer i32 | Boolean u8 | String (u32 length + UTF-8),
+//! and finally the FNV-1a 64 checksum of all preceding bytes (u64). Every field is checked when reading:
+//! wrong magic, version, GUID, count, type, UTF-8, non-finite Real, trailing bytes or checksum are errors.
+
+use super::state::State;
+use super::variables::{Type, Value, Values, Variable};
+
+const MAGIC: &[u8; 8] = b"FMI2SNAP";
+const VERSION: u32 = 1;
+
+/// A copy of an instance's defining data.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    /// Values of all variables.
+    pub values: Values,
+    /// Whether the outputs are stale (values were set after the last computation).
+    pub stale: bool,
+    /// Current communication time [s].
+    pub time: f64,
+    /// State-machine state.
+    pub state: State,
+}
+
+/// FNV-1a, 64 bit (Fowler–Noll–Vo): a checksum against accidental corruption, not a cryptographic hash.
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(*b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+fn put_str(out: &mut Vec<u8>, s: &str) {
+    out.extend_from_slice(&(s.len() as u32).to_le_bytes());
+    out.extend_from_slice(s.as_bytes());
+}
+
+const STATES: [State; 6] = [
+    State::Instantiated,
+    State::InitializationMode,
+    State::StepComplete,
+    State::StepFailed,
+    State::Terminated,
+    State::Error,
+];
+
+impl Snapshot {
+    /// The serialized bytes; `guid` identifies the model.
+    pub fn to_bytes(&self, guid: &str) -> Vec<u8> {
+        let mut out = Vec::with_capacity(256);
+        out.extend_from_slice(MAGIC);
+        out.extend_from_slice(&VERSION.to_le_bytes());
+        put_str(&mut out, guid);
+        out.extend_from_slice(&(self.state as u16).to_le_bytes());
+        out.extend_from_slice(&self.time.to_le_bytes());
+        out.push(u8::from(self.stale));
+        out.extend_from_slice(&(self.values.list().len() as u32).to_le_bytes());
+        for v in self.values.list() {
+            match v {
+                Value::Real(x) => out.extend_from_slice(&x.to_le_bytes()),
+                Value::Integer(x) => out.extend_from_slice(&x.to_le_bytes()),
+                Value::Boolean(x) => out.push(u8::from(*x)),
+                Value::String(s) => put_str(&mut out, s),
+            }
+        }
+        let sum = fnv1a64(&out);
+        out.extend_from_slice(&sum.to_le_bytes());
+        out
+    }
+
+    /// Reads serialized bytes written by [`Snapshot::to_bytes`] for the same model.
+    pub fn from_bytes(
+        bytes: &[u8],
+        guid: &str,
+        table: &'static [Variable],
+    ) -> Result<Snapshot, String> {
+        if bytes.len() < MAGIC.len() + 8 || &bytes[..MAGIC.len()] != MAGIC {
+            return Err("not a serialized FMU state of this FMU (bad header)".into());
+        }
+        let (body, sum) = bytes.split_at(bytes.len() - 8);
+        if fnv1a64(body).to_le_bytes() != sum {
+            return Err("serialized FMU state is corrupt (checksum mismatch)".into());
+        }
+        let mut r = Reader {
+            bytes: body,
+            pos: MAGIC.len(),
+        };
+        let version = u32::from_le_bytes(r.array()?);
+        if version != VERSION {
+            return Err(format!(
+                "serialized FMU state has format version {version}, expected {VERSION}"
+            ));
+        }
+        let their_guid = r.string()?;
+        if their_guid != guid {
+            return Err(format!(
+                "serialized FMU state belongs to another FMU (GUID {their_guid})"
+            ));
+        }
+        let code = u16::from_le_bytes(r.array()?);
+        let state = STATES
+            .into_iter()
+            .find(|s| *s as u16 == code)
+            .ok_or_else(|| format!("serialized FMU state has an unknown state code {code}"))?;
+        let time = f64::from_le_bytes(r.array()?);
+        let stale = r.flag()?;
+        let count = u32::from_le_bytes(r.array()?) as usize;
+        if count != table.len() {
+            return Err(format!(
+                "serialized FMU state has {count} variables, this FMU has {}",
+                table.len()
+            ));
+        }
+        let mut list = Vec::with_capacity(count);
+        for var in table {
+            list.push(match var.ty() {
+                Type::Real => {
+                    let x = f64::from_le_bytes(r.array()?);
+                    if !x.is_finite() {
+                        return Err(format!(
+                            "serialized FMU state has a non-finite value of {}",
+                            var.name
+                        ));
+                    }
+                    Value::Real(x)
+                }
+                Type::Integer => Value::Integer(i32::from_le_bytes(r.array()?)),
+                Type::Boolean => Value::Boolean(r.flag()?),
+                Type::String => Value::String(r.string()?),
+            });
+        }
+        if r.pos != body.len() || !time.is_finite() {
+            return Err("serialized FMU state is corrupt (trailing bytes or bad time)".into());
+        }
+        let values = Values::from_list(table, list).expect("types follow the table");
+        Ok(Snapshot {
+            values,
+            stale,
+            time,
+            state,
+        })
+    }
+}
+
+struct Reader<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+}
+
+impl Reader<'_> {
+    fn take(&mut self, n: usize) -> Result<&[u8], String> {
+        let end = self.pos.checked_add(n).filter(|e| *e <= self.bytes.len());
+        let end = end.ok_or("serialized FMU state is truncated")?;
+        let s = &self.bytes[self.pos..end];
+        self.pos = end;
+        Ok(s)
+    }
+
+    fn array<const N: usize>(&mut self) -> Result<[u8; N], String> {
+        Ok(self.take(N)?.try_into().expect("length checked"))
+    }
+
+    fn flag(&mut self) -> Result<bool, String> {
+        match self.array::<1>()?[0] {
+            0 => Ok(false),
+            1 => Ok(true),
+            b => Err(format!(
+                "serialized FMU state has an invalid Boolean byte {b}"
+            )),
+        }
+    }
+
+    fn string(&mut self) -> Result<String, String> {
+        let n = u32::from_le_bytes(self.array()?) as usize;
+        let s = self.take(n)?;
+        String::from_utf8(s.to_vec()).map_err(|_| "serialized FMU state has invalid UTF-8".into())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fmi2::variables::{Causality, Kind, Variability};
+
+    static TABLE: [Variable; 4] = [
+        Variable {
+            name: "x",
+            vr: 0,
+            causality: Causality::Input,
+            variability: Variability::Continuous,
+            kind: Kind::Real {
+                unit: "1",
+                start: Some(1.5),
+                min: None,
+                max: None,
+                nominal: None,
+            },
+            description: "",
+        },
+        Variable {
+            name: "n",
+            vr: 1,
+            causality: Causality::Parameter,
+            variability: Variability::Fixed,
+            kind: Kind::Integer {
+                start: Some(-3),
+                min: None,
+                max: None,
+            },
+            description: "",
+        },
+        Variable {
+            name: "b",
+            vr: 2,
+            causality: Causality::Output,
+            variability: Variability::Discrete,
+            kind: Kind::Boolean { start: None },
+            description: "",
+        },
+        Variable {
+            name: "s",
+            vr: 3,
+            causality: Causality::Parameter,
+            variability: Variability::Fixed,
+            kind: Kind::String {
+                start: Some("päth/%20"),
+            },
+            description: "",
+        },
+    ];
+
+    fn sample() -> Snapshot {
+        let mut values = Values::start(&TABLE);
+        values.set(2, Value::Boolean(true));
+        Snapshot {
+            values,
+            stale: true,
+            time: 0.25,
+            state: State::StepComplete,
+        }
+    }
+
+    #[test]
+    fn round_trip() {
+        let s = sample();
+        let bytes = s.to_bytes("{g}");
+        assert_eq!(Snapshot::from_bytes(&bytes, "{g}", &TABLE).unwrap(), s);
+    }
+
+    #[test]
+    fn every_corruption_is_rejected() {
+        let bytes = sample().to_bytes("{g}");
+        // any flipped byte: header, checksum or payload
+        for i in 0..bytes.len() {
+            let mut b = bytes.clone();
+            b[i] ^= 0x40;
+            assert!(Snapshot::from_bytes(&b, "{g}", &TABLE).is_err(), "byte {i}");
+        }
+        for n in 0..bytes.len() {
+            assert!(
+                Snapshot::from_bytes(&bytes[..n], "{g}", &TABLE).is_err(),
+                "truncated to {n}"
+            );
+        }
+        let e = Snapshot::from_bytes(&bytes, "{other}", &TABLE).unwrap_err();
+        assert!(e.contains("another FMU"), "{e}");
+        assert!(
+            Snapshot::from_bytes(&bytes, "{g}", &TABLE[..3])
+                .unwrap_err()
+                .contains("variables")
+        );
+    }
+
+    #[test]
+    fn checksum_matches_the_published_fnv1a_vectors() {
+        assert_eq!(fnv1a64(b""), 0xcbf29ce484222325);
+        assert_eq!(fnv1a64(b"a"), 0xaf63dc4c8601ec8c);
+        assert_eq!(fnv1a64(b"foobar"), 0x85944171f73967e8);
+    }
+}

@@ -1,0 +1,308 @@
+//! The variable table of a model (the single source of `modelDescription.xml` and of get/set by value
+//! reference) and the instance's current values.
+
+/// FMI 2.0 `causality`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Causality {
+    /// Set by the importer before initialization, constant afterwards.
+    Parameter,
+    /// Set by the importer at every communication point.
+    Input,
+    /// Computed by the model.
+    Output,
+}
+
+/// FMI 2.0 `variability`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Variability {
+    /// Fixed after initialization.
+    Fixed,
+    /// Changes only at communication points (Integer, Boolean, String values).
+    Discrete,
+    /// Real values that may change continuously.
+    Continuous,
+}
+
+/// Type-specific attributes of a variable; `start` is `None` exactly for outputs (`initial="calculated"`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Kind {
+    /// `<Real>`.
+    Real {
+        /// Unit name, defined in [`Unit`] of the model.
+        unit: &'static str,
+        /// Start value.
+        start: Option<f64>,
+        /// Smallest allowed value.
+        min: Option<f64>,
+        /// Largest allowed value.
+        max: Option<f64>,
+        /// Nominal magnitude (scales finite-difference steps).
+        nominal: Option<f64>,
+    },
+    /// `<Integer>`.
+    Integer {
+        /// Start value.
+        start: Option<i32>,
+        /// Smallest allowed value.
+        min: Option<i32>,
+        /// Largest allowed value.
+        max: Option<i32>,
+    },
+    /// `<Boolean>`.
+    Boolean {
+        /// Start value.
+        start: Option<bool>,
+    },
+    /// `<String>`.
+    String {
+        /// Start value.
+        start: Option<&'static str>,
+    },
+}
+
+/// One row of the variable table.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Variable {
+    /// Name (flat naming convention).
+    pub name: &'static str,
+    /// Value reference.
+    pub vr: u32,
+    /// Causality.
+    pub causality: Causality,
+    /// Variability.
+    pub variability: Variability,
+    /// Type, unit, start and range.
+    pub kind: Kind,
+    /// Description (units and sign conventions included).
+    pub description: &'static str,
+}
+
+/// The type of a variable, for messages and type checks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Type {
+    /// fmi2Real.
+    Real,
+    /// fmi2Integer.
+    Integer,
+    /// fmi2Boolean.
+    Boolean,
+    /// fmi2String.
+    String,
+}
+
+impl Type {
+    /// The FMI type name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Type::Real => "Real",
+            Type::Integer => "Integer",
+            Type::Boolean => "Boolean",
+            Type::String => "String",
+        }
+    }
+}
+
+impl Variable {
+    /// The variable's type.
+    pub fn ty(&self) -> Type {
+        match self.kind {
+            Kind::Real { .. } => Type::Real,
+            Kind::Integer { .. } => Type::Integer,
+            Kind::Boolean { .. } => Type::Boolean,
+            Kind::String { .. } => Type::String,
+        }
+    }
+
+    /// The nominal magnitude of a Real variable (1 when not declared).
+    pub fn nominal(&self) -> f64 {
+        match self.kind {
+            Kind::Real {
+                nominal: Some(n), ..
+            } => n,
+            _ => 1.0,
+        }
+    }
+}
+
+/// One value.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Value {
+    /// A Real.
+    Real(f64),
+    /// An Integer.
+    Integer(i32),
+    /// A Boolean.
+    Boolean(bool),
+    /// A String.
+    String(String),
+}
+
+/// The current values of all variables, in table order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Values {
+    table: &'static [Variable],
+    values: Vec<Value>,
+}
+
+impl Values {
+    /// Every variable at its start value (outputs: zero, false or empty).
+    pub fn start(table: &'static [Variable]) -> Values {
+        let values = table
+            .iter()
+            .map(|v| match v.kind {
+                Kind::Real { start, .. } => Value::Real(start.unwrap_or(0.0)),
+                Kind::Integer { start, .. } => Value::Integer(start.unwrap_or(0)),
+                Kind::Boolean { start } => Value::Boolean(start.unwrap_or(false)),
+                Kind::String { start } => Value::String(start.unwrap_or("").to_string()),
+            })
+            .collect();
+        Values { table, values }
+    }
+
+    /// Builds values from a list in table order; the types must match the table.
+    pub fn from_list(table: &'static [Variable], values: Vec<Value>) -> Option<Values> {
+        let ok = values.len() == table.len()
+            && table.iter().zip(&values).all(|(var, val)| {
+                matches!(
+                    (var.ty(), val),
+                    (Type::Real, Value::Real(_))
+                        | (Type::Integer, Value::Integer(_))
+                        | (Type::Boolean, Value::Boolean(_))
+                        | (Type::String, Value::String(_))
+                )
+            });
+        ok.then_some(Values { table, values })
+    }
+
+    /// The variable table.
+    pub fn table(&self) -> &'static [Variable] {
+        self.table
+    }
+
+    /// All values in table order.
+    pub fn list(&self) -> &[Value] {
+        &self.values
+    }
+
+    /// The table index of a value reference of the given type.
+    pub fn index_of(&self, vr: u32, ty: Type) -> Option<usize> {
+        self.table.iter().position(|v| v.vr == vr && v.ty() == ty)
+    }
+
+    /// The Real at table index `i`.
+    ///
+    /// # Panics
+    /// If variable `i` is not a Real (a bug in the model's variable table, caught by its tests).
+    pub fn real(&self, i: usize) -> f64 {
+        match self.values[i] {
+            Value::Real(x) => x,
+            _ => panic!("variable {} is not a Real", self.table[i].name),
+        }
+    }
+
+    /// The Integer at table index `i` (panics like [`Values::real`]).
+    pub fn integer(&self, i: usize) -> i32 {
+        match self.values[i] {
+            Value::Integer(x) => x,
+            _ => panic!("variable {} is not an Integer", self.table[i].name),
+        }
+    }
+
+    /// The Boolean at table index `i` (panics like [`Values::real`]).
+    pub fn boolean(&self, i: usize) -> bool {
+        match self.values[i] {
+            Value::Boolean(x) => x,
+            _ => panic!("variable {} is not a Boolean", self.table[i].name),
+        }
+    }
+
+    /// The String at table index `i` (panics like [`Values::real`]).
+    pub fn string(&self, i: usize) -> &str {
+        match &self.values[i] {
+            Value::String(x) => x,
+            _ => panic!("variable {} is not a String", self.table[i].name),
+        }
+    }
+
+    /// Replaces the value at table index `i` (panics if the type differs from the table's).
+    pub fn set(&mut self, i: usize, value: Value) {
+        assert!(
+            std::mem::discriminant(&self.values[i]) == std::mem::discriminant(&value),
+            "type mismatch writing {}",
+            self.table[i].name
+        );
+        self.values[i] = value;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    static TABLE: [Variable; 3] = [
+        Variable {
+            name: "u",
+            vr: 7,
+            causality: Causality::Input,
+            variability: Variability::Continuous,
+            kind: Kind::Real {
+                unit: "m",
+                start: Some(2.0),
+                min: None,
+                max: None,
+                nominal: Some(0.5),
+            },
+            description: "input",
+        },
+        Variable {
+            name: "n",
+            vr: 7,
+            causality: Causality::Parameter,
+            variability: Variability::Fixed,
+            kind: Kind::Integer {
+                start: Some(3),
+                min: None,
+                max: None,
+            },
+            description: "same vr, other type",
+        },
+        Variable {
+            name: "s",
+            vr: 1,
+            causality: Causality::Parameter,
+            variability: Variability::Fixed,
+            kind: Kind::String { start: None },
+            description: "text",
+        },
+    ];
+
+    #[test]
+    fn value_references_are_resolved_per_type() {
+        let v = Values::start(&TABLE);
+        assert_eq!(v.index_of(7, Type::Real), Some(0));
+        assert_eq!(v.index_of(7, Type::Integer), Some(1));
+        assert_eq!(v.index_of(7, Type::Boolean), None);
+        assert_eq!(v.real(0), 2.0);
+        assert_eq!(v.integer(1), 3);
+        assert_eq!(v.string(2), "");
+        assert_eq!(TABLE[0].nominal(), 0.5);
+        assert_eq!(TABLE[1].nominal(), 1.0);
+    }
+
+    #[test]
+    fn from_list_checks_length_and_types() {
+        let good = vec![
+            Value::Real(1.0),
+            Value::Integer(1),
+            Value::String("x".into()),
+        ];
+        assert!(Values::from_list(&TABLE, good).is_some());
+        let wrong_type = vec![
+            Value::Real(1.0),
+            Value::Real(1.0),
+            Value::String("x".into()),
+        ];
+        assert!(Values::from_list(&TABLE, wrong_type).is_none());
+        assert!(Values::from_list(&TABLE, vec![Value::Real(1.0)]).is_none());
+    }
+}

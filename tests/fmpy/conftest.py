@@ -1,0 +1,61 @@
+"""Shared fixtures of the fmpy tests of WheelRailFriction.fmu.
+
+The FMU is target/fmu/WheelRailFriction.fmu (override: WHEELRAIL_FMU) and the reference CLI is
+target/release/wheelrail (override: WHEELRAIL_CLI); `make test-python` builds both first.
+"""
+
+import json
+import os
+import pathlib
+import subprocess
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+FMU = pathlib.Path(os.environ.get("WHEELRAIL_FMU", ROOT / "target" / "fmu" / "WheelRailFriction.fmu"))
+CLI = pathlib.Path(os.environ.get("WHEELRAIL_CLI", ROOT / "target" / "release" / "wheelrail"))
+GRID = 12
+
+# FMU input and parameter names -> `wheelrail point` flags
+CLI_FLAGS = {
+    "creepage_longitudinal": "--creepage-x",
+    "creepage_lateral": "--creepage-y",
+    "spin_creepage": "--spin",
+    "normal_force": "--normal-force",
+    "rolling_speed": "--speed",
+    "wetness": "--wetness",
+    "roughness": "--roughness",
+    "bulk_temperature": "--bulk-temperature",
+    "k_wet": "--k-wet",
+    "flow_resistance": "--flow-resistance",
+    "psi_b": "--psi-b",
+    "h_f_max": "--h-f-max",
+}
+
+# FMU outputs -> keys of `wheelrail point --json`
+CLI_OUTPUTS = {
+    "force_longitudinal": "force_x",
+    "force_lateral": "force_y",
+    "spin_moment": "spin_moment",
+    "traction_coefficient": "traction_coefficient",
+    "max_temperature": "max_temperature",
+    "fluid_load_fraction": "fluid_load_fraction",
+}
+
+
+@pytest.fixture(scope="session")
+def fmu_path():
+    if not FMU.exists():
+        pytest.fail(f"{FMU} is missing: build it with `make fmu`")
+    return str(FMU)
+
+
+def cli_point(**values):
+    """`wheelrail point --json` on the test grid for FMU-named inputs and parameters."""
+    if not CLI.exists():
+        pytest.fail(f"{CLI} is missing: build it with `make build`")
+    args = [str(CLI), "point", "--json", "--grid", f"{GRID},{GRID}"]
+    for name, value in values.items():
+        args += [CLI_FLAGS[name], repr(float(value))]
+    out = subprocess.run(args, check=True, capture_output=True, text=True).stdout
+    return json.loads(out)

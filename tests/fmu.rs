@@ -1,0 +1,969 @@
+//! WheelRailFriction.fmu's shared library driven through its C interface, as an importer would.
+//!
+//! The library is `libWheelRailFriction.so` of `target/release` or `target/debug` (the newer one; override
+//! with `WHEELRAIL_FMU_LIB`). `make test` builds it first (`make fmu-lib`); if it is missing, these tests
+//! build it with `cargo build --release -p wheelrail-fmu`, and they refuse a library older than the
+//! sources. The FMI logger is variadic, which Rust cannot define: the tests compile a six-line C logger
+//! (`vsnprintf` into a buffer, then a call into Rust) with the system C compiler (`$CC`, default `cc`, the
+//! same compiler that links Rust programs) and load it like the FMU.
+//!
+//! Value references and the GUID are read from the committed `modelDescription/modelDescription.xml`.
+
+use std::collections::HashMap;
+use std::ffi::{CStr, CString, c_char, c_int, c_void};
+use std::path::{Path, PathBuf};
+use std::ptr::{null, null_mut};
+use std::sync::{Arc, Mutex, OnceLock};
+use wheelrail::{OperatingPoint, Params};
+
+const OK: c_int = 0;
+const WARNING: c_int = 1;
+const DISCARD: c_int = 2;
+const ERROR: c_int = 3;
+const GRID: i32 = 12;
+
+type Comp = *mut c_void;
+type Sink = unsafe extern "C" fn(*mut c_void, *const c_char, c_int, *const c_char, *const c_char);
+type Logger = unsafe extern "C" fn(*mut c_void, *const c_char, c_int, *const c_char, *const c_char);
+
+#[repr(C)]
+struct Callbacks {
+    logger: Option<Logger>,
+    allocate: *const c_void,
+    free: *const c_void,
+    step_finished: *const c_void,
+    env: *mut c_void,
+}
+
+/// What the C logger calls: the environment pointer is a `LogEnv`.
+#[repr(C)]
+struct LogEnv {
+    sink: Sink,
+    messages: *const Mutex<Vec<Message>>,
+}
+
+/// One logged message.
+#[derive(Debug, Clone)]
+struct Message {
+    instance: String,
+    status: c_int,
+    category: String,
+    text: String,
+}
+
+unsafe extern "C" fn collect(
+    env: *mut c_void,
+    instance: *const c_char,
+    status: c_int,
+    category: *const c_char,
+    text: *const c_char,
+) {
+    let s = |p: *const c_char| unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned();
+    let m = unsafe { &*(env as *const Mutex<Vec<Message>>) };
+    m.lock().unwrap().push(Message {
+        instance: s(instance),
+        status,
+        category: s(category),
+        text: s(text),
+    });
+}
+
+const LOGGER_C: &str = r#"
+#include <stdarg.h>
+#include <stdio.h>
+typedef void (*sink_t)(void *, const char *, int, const char *, const char *);
+struct env { sink_t sink; void *messages; };
+void test_logger(void *env, const char *instance, int status, const char *category, const char *fmt, ...) {
+    char buf[8192]; va_list ap; va_start(ap, fmt); vsnprintf(buf, sizeof buf, fmt, ap); va_end(ap);
+    struct env *e = env; e->sink(e->messages, instance, status, category, buf);
+}
+"#;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn target_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root().join("target"))
+}
+
+/// The newest modification time of the sources cargo's dep-info file (`<lib>.d`) lists for `lib`.
+fn newest_source(lib: &Path) -> Option<std::time::SystemTime> {
+    let info = std::fs::read_to_string(lib.with_extension("d")).ok()?;
+    let (_, deps) = info.lines().next()?.split_once(": ")?;
+    deps.replace("\\ ", "\0")
+        .split_whitespace()
+        .filter_map(|p| {
+            std::fs::metadata(p.replace('\0', " "))
+                .ok()?
+                .modified()
+                .ok()
+        })
+        .max()
+}
+
+fn library_path() -> PathBuf {
+    if let Some(p) = std::env::var_os("WHEELRAIL_FMU_LIB") {
+        return p.into();
+    }
+    let candidates = || {
+        ["release", "debug"]
+            .iter()
+            .map(|p| target_dir().join(p).join("libWheelRailFriction.so"))
+            .filter(|p| p.exists())
+            .max_by_key(|p| p.metadata().unwrap().modified().unwrap())
+    };
+    let lib = candidates().unwrap_or_else(|| {
+        let ok = std::process::Command::new(std::env::var("CARGO").unwrap_or("cargo".into()))
+            .args(["build", "--release", "-p", "wheelrail-fmu", "--lib"])
+            .current_dir(root())
+            .status()
+            .expect("running cargo build");
+        assert!(ok.success(), "cargo build -p wheelrail-fmu failed");
+        candidates().expect("the build produced no libWheelRailFriction.so")
+    });
+    let built = lib.metadata().unwrap().modified().unwrap();
+    assert!(
+        newest_source(&lib).is_none_or(|sources| built >= sources),
+        "{} is older than the sources: rebuild it with `make fmu-lib` (cargo build --release -p wheelrail-fmu)",
+        lib.display()
+    );
+    lib
+}
+
+fn c_logger() -> Logger {
+    static LIB: OnceLock<libloading::Library> = OnceLock::new();
+    let lib = LIB.get_or_init(|| {
+        let dir = target_dir().join("fmu-test-logger");
+        std::fs::create_dir_all(&dir).unwrap();
+        let src = dir.join("logger.c");
+        let so = dir.join(format!("liblogger-{}.so", std::process::id()));
+        std::fs::write(&src, LOGGER_C).unwrap();
+        let cc = std::env::var("CC").unwrap_or("cc".into());
+        let ok = std::process::Command::new(&cc)
+            .args(["-shared", "-fPIC", "-O1", "-o"])
+            .arg(&so)
+            .arg(&src)
+            .status()
+            .unwrap_or_else(|e| panic!("running the C compiler {cc}: {e}"));
+        assert!(ok.success(), "compiling the test logger failed");
+        let lib = unsafe { libloading::Library::new(so.to_str().unwrap()) }.unwrap();
+        // a loaded library stays mapped after its file is removed
+        std::fs::remove_file(&so).ok();
+        lib
+    });
+    unsafe { *lib.get::<Logger>("test_logger").unwrap() }
+}
+
+/// The exported functions.
+#[allow(clippy::type_complexity)]
+struct Fmi {
+    instantiate: unsafe extern "C" fn(
+        *const c_char,
+        c_int,
+        *const c_char,
+        *const c_char,
+        *const Callbacks,
+        c_int,
+        c_int,
+    ) -> Comp,
+    free_instance: unsafe extern "C" fn(Comp),
+    set_debug_logging: unsafe extern "C" fn(Comp, c_int, usize, *const *const c_char) -> c_int,
+    setup_experiment: unsafe extern "C" fn(Comp, c_int, f64, f64, c_int, f64) -> c_int,
+    enter_initialization_mode: unsafe extern "C" fn(Comp) -> c_int,
+    exit_initialization_mode: unsafe extern "C" fn(Comp) -> c_int,
+    terminate: unsafe extern "C" fn(Comp) -> c_int,
+    reset: unsafe extern "C" fn(Comp) -> c_int,
+    get_real: unsafe extern "C" fn(Comp, *const u32, usize, *mut f64) -> c_int,
+    get_integer: unsafe extern "C" fn(Comp, *const u32, usize, *mut c_int) -> c_int,
+    get_boolean: unsafe extern "C" fn(Comp, *const u32, usize, *mut c_int) -> c_int,
+    get_string: unsafe extern "C" fn(Comp, *const u32, usize, *mut *const c_char) -> c_int,
+    set_real: unsafe extern "C" fn(Comp, *const u32, usize, *const f64) -> c_int,
+    set_integer: unsafe extern "C" fn(Comp, *const u32, usize, *const c_int) -> c_int,
+    set_string: unsafe extern "C" fn(Comp, *const u32, usize, *const *const c_char) -> c_int,
+    get_fmu_state: unsafe extern "C" fn(Comp, *mut *mut c_void) -> c_int,
+    set_fmu_state: unsafe extern "C" fn(Comp, *mut c_void) -> c_int,
+    free_fmu_state: unsafe extern "C" fn(Comp, *mut *mut c_void) -> c_int,
+    serialized_size: unsafe extern "C" fn(Comp, *mut c_void, *mut usize) -> c_int,
+    serialize: unsafe extern "C" fn(Comp, *mut c_void, *mut c_char, usize) -> c_int,
+    deserialize: unsafe extern "C" fn(Comp, *const c_char, usize, *mut *mut c_void) -> c_int,
+    directional_derivative: unsafe extern "C" fn(
+        Comp,
+        *const u32,
+        usize,
+        *const u32,
+        usize,
+        *const f64,
+        *mut f64,
+    ) -> c_int,
+    do_step: unsafe extern "C" fn(Comp, f64, f64, c_int) -> c_int,
+    cancel_step: unsafe extern "C" fn(Comp) -> c_int,
+    get_status: unsafe extern "C" fn(Comp, c_int, *mut c_int) -> c_int,
+    get_real_status: unsafe extern "C" fn(Comp, c_int, *mut f64) -> c_int,
+    get_version: unsafe extern "C" fn() -> *const c_char,
+    vr: HashMap<String, u32>,
+    guid: CString,
+}
+
+/// All FMI 2.0 functions a co-simulation FMU exports (fmi2Functions.h).
+const FUNCTIONS: [&str; 34] = [
+    "fmi2GetTypesPlatform",
+    "fmi2GetVersion",
+    "fmi2SetDebugLogging",
+    "fmi2Instantiate",
+    "fmi2FreeInstance",
+    "fmi2SetupExperiment",
+    "fmi2EnterInitializationMode",
+    "fmi2ExitInitializationMode",
+    "fmi2Terminate",
+    "fmi2Reset",
+    "fmi2GetReal",
+    "fmi2GetInteger",
+    "fmi2GetBoolean",
+    "fmi2GetString",
+    "fmi2SetReal",
+    "fmi2SetInteger",
+    "fmi2SetBoolean",
+    "fmi2SetString",
+    "fmi2GetFMUstate",
+    "fmi2SetFMUstate",
+    "fmi2FreeFMUstate",
+    "fmi2SerializedFMUstateSize",
+    "fmi2SerializeFMUstate",
+    "fmi2DeSerializeFMUstate",
+    "fmi2GetDirectionalDerivative",
+    "fmi2SetRealInputDerivatives",
+    "fmi2GetRealOutputDerivatives",
+    "fmi2DoStep",
+    "fmi2CancelStep",
+    "fmi2GetStatus",
+    "fmi2GetRealStatus",
+    "fmi2GetIntegerStatus",
+    "fmi2GetBooleanStatus",
+    "fmi2GetStringStatus",
+];
+
+fn library() -> &'static libloading::Library {
+    static LIB: OnceLock<libloading::Library> = OnceLock::new();
+    LIB.get_or_init(|| {
+        unsafe { libloading::Library::new(library_path().to_str().unwrap()) }.unwrap()
+    })
+}
+
+fn fmi() -> &'static Fmi {
+    static FMI: OnceLock<Fmi> = OnceLock::new();
+    FMI.get_or_init(|| {
+        let lib = library();
+        fn sym<T: Copy>(lib: &libloading::Library, name: &str) -> T {
+            unsafe { *lib.get::<T>(name).unwrap_or_else(|e| panic!("{name}: {e}")) }
+        }
+        let xml =
+            std::fs::read_to_string(root().join("modelDescription/modelDescription.xml")).unwrap();
+        let attr = |text: &str, key: &str| -> String {
+            let start = text.find(&format!("{key}=\"")).unwrap() + key.len() + 2;
+            text[start..start + text[start..].find('"').unwrap()].to_string()
+        };
+        let vr = xml
+            .split("<ScalarVariable ")
+            .skip(1)
+            .map(|s| (attr(s, "name"), attr(s, "valueReference").parse().unwrap()))
+            .collect();
+        Fmi {
+            instantiate: sym(lib, "fmi2Instantiate"),
+            free_instance: sym(lib, "fmi2FreeInstance"),
+            set_debug_logging: sym(lib, "fmi2SetDebugLogging"),
+            setup_experiment: sym(lib, "fmi2SetupExperiment"),
+            enter_initialization_mode: sym(lib, "fmi2EnterInitializationMode"),
+            exit_initialization_mode: sym(lib, "fmi2ExitInitializationMode"),
+            terminate: sym(lib, "fmi2Terminate"),
+            reset: sym(lib, "fmi2Reset"),
+            get_real: sym(lib, "fmi2GetReal"),
+            get_integer: sym(lib, "fmi2GetInteger"),
+            get_boolean: sym(lib, "fmi2GetBoolean"),
+            get_string: sym(lib, "fmi2GetString"),
+            set_real: sym(lib, "fmi2SetReal"),
+            set_integer: sym(lib, "fmi2SetInteger"),
+            set_string: sym(lib, "fmi2SetString"),
+            get_fmu_state: sym(lib, "fmi2GetFMUstate"),
+            set_fmu_state: sym(lib, "fmi2SetFMUstate"),
+            free_fmu_state: sym(lib, "fmi2FreeFMUstate"),
+            serialized_size: sym(lib, "fmi2SerializedFMUstateSize"),
+            serialize: sym(lib, "fmi2SerializeFMUstate"),
+            deserialize: sym(lib, "fmi2DeSerializeFMUstate"),
+            directional_derivative: sym(lib, "fmi2GetDirectionalDerivative"),
+            do_step: sym(lib, "fmi2DoStep"),
+            cancel_step: sym(lib, "fmi2CancelStep"),
+            get_status: sym(lib, "fmi2GetStatus"),
+            get_real_status: sym(lib, "fmi2GetRealStatus"),
+            get_version: sym(lib, "fmi2GetVersion"),
+            guid: CString::new(attr(&xml, "guid")).unwrap(),
+            vr,
+        }
+    })
+}
+
+/// One FMU instance with its own log.
+struct Fmu {
+    c: Comp,
+    log: Arc<Mutex<Vec<Message>>>,
+    _env: Box<LogEnv>,
+    _callbacks: Box<Callbacks>,
+}
+
+// The instance is used by one thread at a time (moved into the thread that drives it).
+unsafe impl Send for Fmu {}
+
+fn vr(name: &str) -> u32 {
+    *fmi()
+        .vr
+        .get(name)
+        .unwrap_or_else(|| panic!("no variable {name}"))
+}
+
+impl Fmu {
+    /// A co-simulation instance with the C logger, all log categories on, and `resources` as resource
+    /// location (none if `None`).
+    fn new(name: &str, resources: Option<&Path>) -> Fmu {
+        let log = Arc::new(Mutex::new(Vec::new()));
+        let env = Box::new(LogEnv {
+            sink: collect,
+            messages: Arc::as_ptr(&log),
+        });
+        let callbacks = Box::new(Callbacks {
+            logger: Some(c_logger()),
+            allocate: null(),
+            free: null(),
+            step_finished: null(),
+            env: &*env as *const LogEnv as *mut c_void,
+        });
+        let name = CString::new(name).unwrap();
+        let uri = resources.map(|p| CString::new(format!("file://{}", p.display())).unwrap());
+        let c = unsafe {
+            (fmi().instantiate)(
+                name.as_ptr(),
+                1,
+                fmi().guid.as_ptr(),
+                uri.as_ref().map_or(null(), |u| u.as_ptr()),
+                &*callbacks,
+                0,
+                1,
+            )
+        };
+        assert!(
+            !c.is_null(),
+            "instantiation failed: {:?}",
+            log.lock().unwrap()
+        );
+        Fmu {
+            c,
+            log,
+            _env: env,
+            _callbacks: callbacks,
+        }
+    }
+
+    fn set(&self, name: &str, x: f64) -> c_int {
+        unsafe { (fmi().set_real)(self.c, &vr(name), 1, &x) }
+    }
+
+    fn set_int(&self, name: &str, x: i32) -> c_int {
+        unsafe { (fmi().set_integer)(self.c, &vr(name), 1, &x) }
+    }
+
+    fn get(&self, name: &str) -> f64 {
+        let mut x = f64::NAN;
+        assert_eq!(
+            unsafe { (fmi().get_real)(self.c, &vr(name), 1, &mut x) },
+            OK,
+            "{:?}",
+            self.errors()
+        );
+        x
+    }
+
+    fn get_int(&self, name: &str) -> i32 {
+        let mut x = -1;
+        assert_eq!(
+            unsafe { (fmi().get_integer)(self.c, &vr(name), 1, &mut x) },
+            OK
+        );
+        x
+    }
+
+    fn get_bool(&self, name: &str) -> bool {
+        let mut x = -1;
+        assert_eq!(
+            unsafe { (fmi().get_boolean)(self.c, &vr(name), 1, &mut x) },
+            OK
+        );
+        x != 0
+    }
+
+    /// Small grid, then setup and initialization; returns the status of fmi2ExitInitializationMode.
+    fn init(&self) -> c_int {
+        assert_eq!(self.set_int("grid_size", GRID), OK);
+        unsafe {
+            assert_eq!((fmi().setup_experiment)(self.c, 0, 0.0, 0.0, 0, 0.0), OK);
+            assert_eq!((fmi().enter_initialization_mode)(self.c), OK);
+            (fmi().exit_initialization_mode)(self.c)
+        }
+    }
+
+    fn step(&self, t: f64) -> c_int {
+        unsafe { (fmi().do_step)(self.c, t, 1e-3, 1) }
+    }
+
+    fn forces(&self) -> [f64; 3] {
+        ["force_longitudinal", "force_lateral", "spin_moment"].map(|n| self.get(n))
+    }
+
+    fn messages(&self) -> Vec<Message> {
+        self.log.lock().unwrap().clone()
+    }
+
+    fn errors(&self) -> Vec<String> {
+        self.messages()
+            .into_iter()
+            .filter(|m| m.status == ERROR)
+            .map(|m| m.text)
+            .collect()
+    }
+
+    fn last_error(&self) -> String {
+        self.errors().pop().unwrap_or_default()
+    }
+}
+
+impl Drop for Fmu {
+    fn drop(&mut self) {
+        unsafe { (fmi().free_instance)(self.c) }
+    }
+}
+
+/// The library's own solution of an operating point on the test grid.
+fn library_forces(p: impl FnOnce(&mut Params), pt: OperatingPoint) -> [f64; 3] {
+    let mut params = Params::default();
+    params.grid.nx = GRID as usize;
+    params.grid.ny = GRID as usize;
+    p(&mut params);
+    let s = wheelrail::solve(&params, &pt).unwrap();
+    [s.global.force_x, s.global.force_y, s.global.spin_moment]
+}
+
+fn close(a: [f64; 3], b: [f64; 3], rel: f64) -> bool {
+    let scale = a.iter().chain(&b).fold(1.0_f64, |m, x| m.max(x.abs()));
+    a.iter().zip(&b).all(|(x, y)| (x - y).abs() <= rel * scale)
+}
+
+#[test]
+fn exports_every_fmi2_cosimulation_function() {
+    for name in FUNCTIONS {
+        assert!(
+            unsafe { library().get::<*const c_void>(name) }.is_ok(),
+            "{name} is not exported"
+        );
+    }
+    assert_eq!(
+        unsafe { CStr::from_ptr((fmi().get_version)()) }
+            .to_str()
+            .unwrap(),
+        "2.0"
+    );
+}
+
+#[test]
+fn life_cycle_outputs_belong_to_the_current_inputs() {
+    let f = Fmu::new("life", None);
+    assert_eq!(f.set("creepage_longitudinal", 0.002), OK);
+    assert_eq!(
+        f.init(),
+        WARNING,
+        "auto mode without a table warns once: {:?}",
+        f.messages()
+    );
+    assert!(
+        f.messages()
+            .iter()
+            .any(|m| m.status == WARNING && m.text.contains("using the exact solver"))
+    );
+    let point = |xi: f64, eta: f64| OperatingPoint {
+        creepage_x: xi,
+        creepage_y: eta,
+        ..OperatingPoint::default()
+    };
+    let first = f.forces();
+    assert!(
+        close(first, library_forces(|_| {}, point(0.002, 0.0)), 1e-12),
+        "{first:?}"
+    );
+    // Kalker's sign convention: the force on the wheel opposes the slip
+    assert!(first[0] < 0.0 && first[1].abs() < 1e-9 * first[0].abs());
+    assert_eq!(f.get_int("evaluation_mode"), 2);
+    assert!(f.get_bool("converged"));
+    assert_eq!(f.set("creepage_lateral", -0.001), OK);
+    assert_eq!(f.step(0.0), OK);
+    let second = f.forces();
+    assert!(close(
+        second,
+        library_forces(|_| {}, point(0.002, -0.001)),
+        1e-12
+    ));
+    assert!(second[1] > 0.0);
+    let mut t = 0.0;
+    assert_eq!(unsafe { (fmi().get_real_status)(f.c, 2, &mut t) }, OK);
+    assert!((t - 1e-3).abs() < 1e-15);
+    let mut s = -1;
+    assert_eq!(unsafe { (fmi().get_status)(f.c, 0, &mut s) }, OK);
+    assert_eq!(s, OK);
+    let f_n = f.get("normal_force");
+    let mu = f.get("traction_coefficient");
+    assert!((mu - second[0].hypot(second[1]) / f_n).abs() < 1e-12);
+    assert!(f.get("max_temperature") > 293.15);
+    assert_eq!(unsafe { (fmi().terminate)(f.c) }, OK);
+    assert_eq!(unsafe { (fmi().reset)(f.c) }, OK);
+    // after a reset the instance is back in Instantiated, where values cannot be read
+    let mut mode = 0;
+    assert_eq!(
+        unsafe { (fmi().get_integer)(f.c, &vr("mode"), 1, &mut mode) },
+        ERROR
+    );
+    assert_eq!(f.init(), WARNING);
+}
+
+#[test]
+fn reversing_turns_the_frame_and_standstill_is_regularised() {
+    let f = Fmu::new("reverse", None);
+    assert_eq!(f.set_int("mode", 2), OK);
+    assert_eq!(f.set("creepage_longitudinal", 0.003), OK);
+    assert_eq!(f.set("creepage_lateral", 0.001), OK);
+    assert_eq!(f.init(), OK);
+    let forward = f.forces();
+    assert_eq!(f.set("rolling_speed", -30.0), OK);
+    assert_eq!(f.step(0.0), OK);
+    let backward = f.forces();
+    // without spin the forces depend on the slip only; the moment of the (trailing-edge) slip zone reverses
+    // with the rolling direction
+    let mirrored = [backward[0], backward[1], -backward[2]];
+    assert!(
+        close(forward, mirrored, 1e-9),
+        "{forward:?} vs {backward:?}"
+    );
+    assert!(forward[2].abs() > 1.0);
+    // spin alone: the lateral force changes sign with the rolling direction, the moment does not
+    assert_eq!(f.set("creepage_longitudinal", 0.0), OK);
+    assert_eq!(f.set("creepage_lateral", 0.0), OK);
+    assert_eq!(f.set("spin_creepage", 0.5), OK);
+    assert_eq!(f.step(0.0), OK);
+    let [_, fy_back, mz_back] = f.forces();
+    assert_eq!(f.set("rolling_speed", 30.0), OK);
+    assert_eq!(f.step(0.0), OK);
+    let [_, fy_fwd, mz_fwd] = f.forces();
+    assert!(fy_fwd < 0.0, "Kalker: F_y = -G c^3 C23 phi for phi > 0");
+    assert!((fy_back + fy_fwd).abs() <= 1e-9 * fy_fwd.abs());
+    assert!((mz_back - mz_fwd).abs() <= 1e-9 * mz_fwd.abs());
+    // standstill: finite, equal to the solve at minimum_speed
+    assert_eq!(f.set("spin_creepage", 0.0), OK);
+    assert_eq!(f.set("creepage_longitudinal", 0.003), OK);
+    assert_eq!(f.set("rolling_speed", 0.01), OK);
+    assert_eq!(f.step(0.0), OK);
+    let at_minimum = f.forces();
+    for v in [0.0, 1e-9, -1e-9] {
+        assert_eq!(f.set("rolling_speed", v), OK);
+        assert_eq!(f.step(0.0), OK);
+        let still = f.forces();
+        assert!(still.iter().all(|x| x.is_finite()));
+        assert!(
+            close(still, at_minimum, 1e-5),
+            "V = {v}: {still:?} vs {at_minimum:?}"
+        );
+    }
+}
+
+#[test]
+fn lifted_wheel_gives_zero_forces_without_error() {
+    let f = Fmu::new("lifted", None);
+    assert_eq!(f.set("normal_force", 0.0), OK);
+    assert_eq!(f.set("creepage_longitudinal", 0.01), OK);
+    assert_eq!(f.set("bulk_temperature", 300.0), OK);
+    assert_eq!(f.set_int("mode", 2), OK);
+    assert_eq!(f.init(), OK);
+    for load in [0.0, -5e3] {
+        assert_eq!(f.set("normal_force", load), OK);
+        assert_eq!(f.step(0.0), OK);
+        assert_eq!(f.forces(), [0.0; 3]);
+        assert_eq!(f.get("traction_coefficient"), 0.0);
+        assert_eq!(f.get("max_temperature"), 300.0);
+        assert!(f.get_bool("converged"));
+    }
+    assert!(f.errors().is_empty());
+}
+
+#[test]
+fn non_finite_inputs_are_rejected_by_name_and_wetness_is_clamped_once() {
+    let f = Fmu::new("bad", None);
+    assert_eq!(f.set_int("mode", 2), OK);
+    assert_eq!(f.init(), OK);
+    for (name, x) in [
+        ("creepage_lateral", f64::NAN),
+        ("normal_force", f64::INFINITY),
+        ("wetness", f64::NEG_INFINITY),
+    ] {
+        assert_eq!(f.set(name, x), ERROR);
+        let e = f.last_error();
+        assert!(e.contains(name) && e.contains("not a finite number"), "{e}");
+    }
+    // rejected values change nothing: the instance goes on
+    assert_eq!(f.step(0.0), OK);
+    assert_eq!(f.set("wetness", 1.5), OK);
+    assert_eq!(f.step(0.0), WARNING);
+    let clamped = f.forces();
+    assert_eq!(f.set("wetness", -0.5), OK);
+    assert_eq!(f.step(0.0), OK);
+    assert_eq!(f.set("wetness", 1.0), OK);
+    assert_eq!(f.step(0.0), OK);
+    assert_eq!(f.forces(), clamped);
+    let warnings = f
+        .messages()
+        .iter()
+        .filter(|m| m.status == WARNING && m.text.contains("wetness"))
+        .count();
+    assert_eq!(warnings, 1);
+    // out of the model's range: the step fails naming the variable, and the instance needs a reset
+    assert_eq!(f.set("creepage_longitudinal", 2.5), OK);
+    assert_eq!(f.step(0.0), ERROR);
+    assert!(
+        f.last_error().contains("creepage_longitudinal: 2.5"),
+        "{}",
+        f.last_error()
+    );
+    assert_eq!(f.step(0.0), ERROR);
+    assert!(f.last_error().contains("Illegal call sequence"));
+    assert_eq!(unsafe { (fmi().reset)(f.c) }, OK);
+    assert_eq!(f.init(), WARNING);
+}
+
+#[test]
+fn illegal_call_sequences_and_null_pointers_are_errors() {
+    let f = Fmu::new("seq", None);
+    assert_eq!(f.step(0.0), ERROR);
+    assert!(
+        f.last_error().contains("fmi2DoStep: Illegal call sequence"),
+        "{:?}",
+        f.errors()
+    );
+    let mut x = 0.0;
+    assert_eq!(
+        unsafe { (fmi().get_real)(f.c, &vr("force_longitudinal"), 1, &mut x) },
+        ERROR
+    );
+    assert!(f.last_error().contains("Illegal call sequence"));
+    assert_eq!(unsafe { (fmi().exit_initialization_mode)(f.c) }, ERROR);
+    assert_eq!(unsafe { (fmi().cancel_step)(f.c) }, ERROR);
+    f.init();
+    assert_eq!(f.set("roughness", 0.1), ERROR);
+    assert!(f.last_error().contains("parameter roughness is fixed"));
+    assert_eq!(f.set("force_lateral", 1.0), ERROR);
+    assert_eq!(unsafe { (fmi().enter_initialization_mode)(f.c) }, ERROR);
+    // null pointers
+    unsafe {
+        assert_eq!((fmi().get_real)(f.c, null(), 1, &mut x), ERROR);
+        assert!(f.last_error().contains("vr[] is a null pointer"));
+        assert_eq!(
+            (fmi().get_real)(f.c, &vr("force_lateral"), 1, null_mut()),
+            ERROR
+        );
+        assert_eq!((fmi().set_real)(f.c, &vr("wetness"), 1, null()), ERROR);
+        assert_eq!((fmi().get_fmu_state)(f.c, null_mut()), ERROR);
+        assert_eq!((fmi().set_fmu_state)(f.c, null_mut()), ERROR);
+        assert_eq!((fmi().do_step)(null_mut(), 0.0, 1.0, 0), ERROR);
+        assert_eq!(
+            (fmi().directional_derivative)(f.c, null(), 1, null(), 1, null(), null_mut()),
+            ERROR
+        );
+        let nulls = [null::<c_char>()];
+        assert_eq!((fmi().set_debug_logging)(f.c, 1, 1, nulls.as_ptr()), ERROR);
+        let unknown = [c"logNonsense".as_ptr()];
+        assert_eq!(
+            (fmi().set_debug_logging)(f.c, 1, 1, unknown.as_ptr()),
+            ERROR
+        );
+        assert!(f.last_error().contains("logNonsense"));
+        assert!(
+            (fmi().instantiate)(c"x".as_ptr(), 1, fmi().guid.as_ptr(), null(), null(), 0, 0)
+                .is_null()
+        );
+        (fmi().free_instance)(null_mut());
+    }
+    // everything above left the instance usable
+    assert_eq!(f.step(0.0), OK);
+}
+
+#[test]
+fn instantiation_checks_guid_and_type() {
+    let log = Arc::new(Mutex::new(Vec::new()));
+    let env = LogEnv {
+        sink: collect,
+        messages: Arc::as_ptr(&log),
+    };
+    let cb = Callbacks {
+        logger: Some(c_logger()),
+        allocate: null(),
+        free: null(),
+        step_finished: null(),
+        env: &env as *const LogEnv as *mut c_void,
+    };
+    unsafe {
+        assert!(
+            (fmi().instantiate)(c"g".as_ptr(), 1, c"{wrong}".as_ptr(), null(), &cb, 0, 0).is_null()
+        );
+        assert!(
+            (fmi().instantiate)(c"g".as_ptr(), 0, fmi().guid.as_ptr(), null(), &cb, 0, 0).is_null()
+        );
+    }
+    let msgs = log.lock().unwrap().clone();
+    assert!(msgs[0].text.contains("fmuGUID does not match") && msgs[0].instance == "g");
+    assert!(msgs[1].text.contains("Co-Simulation only") && msgs[1].category == "logStatusError");
+}
+
+#[test]
+fn table_only_mode_without_a_table_fails_at_initialization() {
+    let dir = target_dir().join(format!("fmu-test-resources-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = Fmu::new("table", Some(&dir));
+    assert_eq!(f.set_int("mode", 1), OK);
+    assert_eq!(f.init(), ERROR);
+    let e = f.last_error();
+    assert!(
+        e.contains("table only")
+            && e.contains(&format!(
+                "no lookup table at {}",
+                dir.join("table").display()
+            )),
+        "{e}"
+    );
+    assert_eq!(f.step(0.0), ERROR);
+    // auto mode falls back with one warning, naming the missing table
+    let g = Fmu::new("auto", Some(&dir));
+    let missing = CString::new("/nonexistent/wheelrail.table").unwrap();
+    assert_eq!(
+        unsafe { (fmi().set_string)(g.c, &vr("table_file"), 1, &missing.as_ptr()) },
+        OK
+    );
+    assert_eq!(g.init(), WARNING);
+    assert_eq!(g.step(0.0), OK);
+    let warnings: Vec<_> = g
+        .messages()
+        .into_iter()
+        .filter(|m| m.status == WARNING)
+        .collect();
+    assert_eq!(warnings.len(), 1);
+    assert!(
+        warnings[0].text.contains("/nonexistent/wheelrail.table")
+            && warnings[0].category == "logStatusWarning"
+    );
+    assert_eq!(g.get_int("evaluation_mode"), 2);
+    let mut s: *const c_char = null();
+    assert_eq!(
+        unsafe { (fmi().get_string)(g.c, &vr("table_file"), 1, &mut s) },
+        OK
+    );
+    assert_eq!(unsafe { CStr::from_ptr(s) }, missing.as_c_str());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn fmu_states_round_trip_in_memory_and_serialized() {
+    let f = Fmu::new("state", None);
+    assert_eq!(f.set("roughness", 0.8), OK);
+    assert_eq!(f.set_int("mode", 2), OK);
+    f.init();
+    assert_eq!(f.set("creepage_longitudinal", 0.004), OK);
+    assert_eq!(f.step(0.0), OK);
+    let a = f.forces();
+    let mut state: *mut c_void = null_mut();
+    assert_eq!(unsafe { (fmi().get_fmu_state)(f.c, &mut state) }, OK);
+    assert_eq!(f.set("creepage_longitudinal", 0.01), OK);
+    assert_eq!(f.step(1e-3), OK);
+    assert_ne!(f.forces(), a);
+    assert_eq!(unsafe { (fmi().set_fmu_state)(f.c, state) }, OK);
+    assert_eq!(f.forces(), a);
+    assert_eq!(f.get("creepage_longitudinal"), 0.004);
+    // serialize, restore into a fresh instance with other parameters
+    let mut size = 0usize;
+    assert_eq!(
+        unsafe { (fmi().serialized_size)(f.c, state, &mut size) },
+        OK
+    );
+    let mut bytes = vec![0 as c_char; size];
+    assert_eq!(
+        unsafe { (fmi().serialize)(f.c, state, bytes.as_mut_ptr(), size) },
+        OK
+    );
+    let g = Fmu::new("state-copy", None);
+    let mut restored: *mut c_void = null_mut();
+    assert_eq!(
+        unsafe { (fmi().deserialize)(g.c, bytes.as_ptr(), size, &mut restored) },
+        OK
+    );
+    assert_eq!(unsafe { (fmi().set_fmu_state)(g.c, restored) }, OK);
+    assert_eq!(g.forces(), a);
+    assert_eq!(g.get("roughness"), 0.8);
+    assert_eq!(g.step(1e-3), OK);
+    assert_eq!(g.forces(), a);
+    // corrupt and truncated bytes are rejected
+    for (i, bad) in [size / 3, size - 1].into_iter().enumerate() {
+        let mut b = bytes.clone();
+        b[bad] ^= 0x10;
+        assert_eq!(
+            unsafe { (fmi().deserialize)(g.c, b.as_ptr(), size, &mut restored) },
+            ERROR,
+            "case {i}"
+        );
+        assert!(g.last_error().contains("corrupt"), "{}", g.last_error());
+    }
+    assert_eq!(
+        unsafe { (fmi().deserialize)(g.c, bytes.as_ptr(), size - 9, &mut restored) },
+        ERROR
+    );
+    assert_eq!(
+        unsafe { (fmi().deserialize)(g.c, bytes.as_ptr(), 3, &mut restored) },
+        ERROR
+    );
+    unsafe {
+        assert_eq!((fmi().free_fmu_state)(f.c, &mut state), OK);
+        assert_eq!((fmi().free_fmu_state)(g.c, &mut restored), OK);
+    }
+    assert!(state.is_null() && restored.is_null());
+}
+
+#[test]
+fn two_instances_with_different_parameters_run_side_by_side() {
+    let make = |name: &str, roughness: f64, bulk: f64| {
+        let f = Fmu::new(name, None);
+        assert_eq!(f.set("roughness", roughness), OK);
+        assert_eq!(f.set("bulk_temperature", bulk), OK);
+        assert_eq!(f.set_int("mode", 2), OK);
+        assert_eq!(f.init(), OK);
+        f
+    };
+    let smooth = make("smooth", 0.1, 293.15);
+    let rough = make("rough", 0.9, 320.0);
+    let run = |f: Fmu, xi: f64| {
+        std::thread::spawn(move || {
+            let mut out = Vec::new();
+            for k in 1..=4 {
+                assert_eq!(f.set("creepage_longitudinal", xi * f64::from(k)), OK);
+                assert_eq!(f.step(0.0), OK);
+                out.push(f.forces());
+            }
+            (f, out)
+        })
+    };
+    let (ta, tb) = (run(smooth, 0.002), run(rough, 0.002));
+    let (smooth, a) = ta.join().unwrap();
+    let (rough, b) = tb.join().unwrap();
+    for k in 0..4 {
+        let pt = OperatingPoint {
+            creepage_x: 0.002 * (k + 1) as f64,
+            ..OperatingPoint::default()
+        };
+        let la = library_forces(|p| p.roughness.k_r = 0.1, pt);
+        let lb = library_forces(
+            |p| {
+                p.roughness.k_r = 0.9;
+                p.material.bulk_temperature = 320.0;
+            },
+            pt,
+        );
+        assert!(close(a[k], la, 1e-12) && close(b[k], lb, 1e-12), "step {k}");
+    }
+    assert_ne!(a[3], b[3]);
+    assert!(smooth.messages().iter().all(|m| m.instance == "smooth"));
+    assert!(rough.messages().iter().all(|m| m.instance == "rough"));
+}
+
+#[test]
+fn directional_derivatives_match_differences_and_kalkers_linear_stiffness() {
+    let f = Fmu::new("jacobian", None);
+    assert_eq!(f.set_int("mode", 2), OK);
+    assert_eq!(f.set("creepage_longitudinal", 0.002), OK);
+    assert_eq!(f.set("creepage_lateral", 0.001), OK);
+    assert_eq!(f.init(), OK);
+    let unknown = [vr("force_longitudinal"), vr("force_lateral")];
+    let known = [vr("creepage_longitudinal"), vr("creepage_lateral")];
+    let mut d = [0.0; 2];
+    let seed = [1.0, 0.5];
+    assert_eq!(
+        unsafe {
+            (fmi().directional_derivative)(
+                f.c,
+                unknown.as_ptr(),
+                2,
+                known.as_ptr(),
+                2,
+                seed.as_ptr(),
+                d.as_mut_ptr(),
+            )
+        },
+        OK
+    );
+    // central difference of the outputs along the same direction
+    let h = 2e-5;
+    let at = |s: f64| {
+        assert_eq!(f.set("creepage_longitudinal", 0.002 + s * h), OK);
+        assert_eq!(f.set("creepage_lateral", 0.001 + s * h * 0.5), OK);
+        [f.get("force_longitudinal"), f.get("force_lateral")]
+    };
+    let (up, down) = (at(1.0), at(-1.0));
+    for i in 0..2 {
+        let central = (up[i] - down[i]) / (2.0 * h);
+        assert!(
+            (d[i] - central).abs() < 0.01 * central.abs(),
+            "output {i}: {} vs {central}",
+            d[i]
+        );
+    }
+    // small creepage: dF_x/dxi = -G c^2 C11 (Kalker's linear theory; FASTSIM on 12 x 12 cells within 5 %)
+    assert_eq!(f.set("creepage_longitudinal", 1e-7), OK);
+    assert_eq!(f.set("creepage_lateral", 0.0), OK);
+    assert_eq!(
+        unsafe {
+            (fmi().directional_derivative)(
+                f.c,
+                unknown.as_ptr(),
+                1,
+                known.as_ptr(),
+                1,
+                [1.0].as_ptr(),
+                d.as_mut_ptr(),
+            )
+        },
+        OK
+    );
+    let p = Params::default();
+    let hertz = wheelrail::solver::normal_contact(&p, 100e3).unwrap();
+    let m = p.material.at(p.material.bulk_temperature);
+    let k = wheelrail::tangential::kalker_coefficients(hertz.a, hertz.b, m.poisson).unwrap();
+    let linear = -m.shear_modulus * hertz.a * hertz.b * k.c11;
+    assert!((d[0] / linear - 1.0).abs() < 0.05, "{} vs {linear}", d[0]);
+    // only Real outputs with respect to Real inputs
+    let wrong = [vr("evaluation_mode")];
+    assert_eq!(
+        unsafe {
+            (fmi().directional_derivative)(
+                f.c,
+                wrong.as_ptr(),
+                1,
+                known.as_ptr(),
+                1,
+                [1.0].as_ptr(),
+                d.as_mut_ptr(),
+            )
+        },
+        ERROR
+    );
+    let mut s = 0;
+    assert_eq!(unsafe { (fmi().get_status)(f.c, 1, &mut s) }, DISCARD);
+}
