@@ -8,7 +8,7 @@ VENV := .venv
 VPY := $(VENV)/bin/python
 FMU := target/fmu/WheelRailFriction.fmu
 
-.PHONY: all build test test-rust test-python lint demo clean venv fmu fmu-lib model-description bench
+.PHONY: all build test test-rust test-python lint demo clean venv fmu fmu-lib model-description bench table
 
 all: build
 
@@ -56,3 +56,10 @@ bench:
 clean:
 	$(CARGO) clean
 	rm -rf $(VENV)
+
+# The default lookup table (default parameters, default axes) for the FMU, then its spot check against the
+# exact solver. Long: see README (tabulation mode) for the measured build time.
+TABLE_DIR := fmu/resources/table
+table:
+	$(CARGO) run --release --bin wheelrail -- table build --out $(TABLE_DIR)
+	$(CARGO) run --release --bin wheelrail -- table verify $(TABLE_DIR)

@@ -31,6 +31,15 @@ pub enum Error {
         /// What went wrong.
         reason: String,
     },
+    /// A lookup table that cannot be built, read or used: missing or corrupt files, a format, model or
+    /// parameter mismatch.
+    #[error("table {path}: {reason}")]
+    Table {
+        /// The table directory or file.
+        path: String,
+        /// What went wrong.
+        reason: String,
+    },
 }
 
 /// Result alias of the library.

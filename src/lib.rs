@@ -16,6 +16,7 @@ pub mod params;
 pub mod plot;
 pub mod reproduce;
 pub mod solver;
+pub mod table;
 pub mod tangential;
 pub mod thermal;
 

@@ -5,3 +5,4 @@ mod fluid;
 mod fmu;
 mod paper;
 mod solver;
+mod table;

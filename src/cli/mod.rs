@@ -4,6 +4,7 @@ mod curve;
 mod fields;
 mod point;
 mod reproduce;
+mod table;
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -28,6 +29,8 @@ enum Command {
     Fields(fields::FieldsArgs),
     /// Reproduce the paper's result figures (Figs. 5, 7, 10–21) as CSV, PNG and SVG.
     Reproduce(reproduce::ReproduceArgs),
+    /// Build, merge, verify and describe lookup tables of the model (tabulation mode).
+    Table(table::TableArgs),
 }
 
 /// Friction law names on the command line.
@@ -220,6 +223,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Curve(a) => curve::run(&a),
         Command::Fields(a) => fields::run(&a),
         Command::Reproduce(a) => reproduce::run(&a),
+        Command::Table(a) => table::run(&a),
     }
 }
 

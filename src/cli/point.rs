@@ -3,6 +3,7 @@
 use super::{ModelArgs, solution_json, solve_reporting};
 use anyhow::Result;
 use clap::Args;
+use std::path::PathBuf;
 
 /// Arguments of `wheelrail point`.
 #[derive(Debug, Args)]
@@ -12,14 +13,26 @@ pub struct PointArgs {
     /// Print one JSON object (SI units, kelvin) instead of a table.
     #[arg(long)]
     json: bool,
+    /// Evaluate by interpolation in the lookup table in DIR (built for the same parameters) instead of
+    /// the exact solver.
+    #[arg(long, value_name = "DIR")]
+    table: Option<PathBuf>,
 }
 
 /// Runs `wheelrail point`.
 pub fn run(a: &PointArgs) -> Result<()> {
     let params = a.model.params()?;
     let pt = a.model.point()?;
-    let s = solve_reporting(&params, &pt)?;
-    let v = solution_json(&params, &s);
+    let v = match &a.table {
+        Some(dir) => super::table::point_json(dir, &params, &pt)?,
+        None => {
+            let mut v = solution_json(&params, &solve_reporting(&params, &pt)?);
+            v.as_object_mut()
+                .expect("object")
+                .insert("evaluation".into(), "exact".into());
+            v
+        }
+    };
     if a.json {
         println!("{v}");
     } else {

@@ -2,6 +2,8 @@
 //! by interpolation in a lookup table. This file is the only place where the FMU calls the library's solver.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use wheelrail::table::{Table, TableOutput};
 use wheelrail::{OperatingPoint, Params};
 
 /// The `mode` parameter.
@@ -53,46 +55,169 @@ pub struct Evaluation {
 }
 
 /// An evaluator of operating points.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub enum Evaluator {
     /// The exact coupled solver, `wheelrail::solve`.
     Exact,
-    // Issue 5 adds `Table(Arc<Table>)`: interpolation in a table loaded once and shared read-only between
-    // instances, with exact derivatives from the interpolant.
+    /// Interpolation in a lookup table loaded once per process and file and shared read-only between
+    /// instances ([`Table::load_shared`]). In mode auto, points outside the table's ranges or parameters
+    /// other than the table's go to the exact solver; in mode table-only, points are clamped to the ranges
+    /// and other parameters are an error.
+    Table {
+        /// The shared table.
+        table: Arc<Table>,
+        /// Auto or table-only.
+        mode: Mode,
+    },
+}
+
+impl PartialEq for Evaluator {
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Evaluator::Exact, Evaluator::Exact) => true,
+            (Evaluator::Table { table: a, mode: m }, Evaluator::Table { table: b, mode: n }) => {
+                Arc::ptr_eq(a, b) && m == n
+            }
+            _ => false,
+        }
+    }
+}
+
+/// What a table evaluator did with one point, for the model to log once per instance.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Notice {
+    /// Mode auto used the exact solver (the reason).
+    FellBack(String),
+    /// Mode table-only clamped the point to the table's ranges.
+    Clamped,
+}
+
+/// How one point is evaluated by an evaluator.
+pub enum Route<'a> {
+    /// By the exact solver.
+    Exact,
+    /// By this table (possibly clamped).
+    Table(&'a Table),
+}
+
+/// The exact solver's results as an [`Evaluation`].
+fn exact(params: &Params, point: &OperatingPoint) -> wheelrail::Result<Evaluation> {
+    let s = wheelrail::solve(params, point)?;
+    let g = &s.global;
+    Ok(Evaluation {
+        force_x: g.force_x,
+        force_y: g.force_y,
+        spin_moment: g.spin_moment,
+        traction_coefficient: g.traction_coefficient,
+        max_temperature: g.max_temperature,
+        fluid_load_fraction: g.fluid_load_fraction,
+        converged: s.report.converged,
+        iterations: s.report.iterations,
+        residual: s.report.residual,
+    })
+}
+
+/// A table evaluation as an [`Evaluation`] (converged: every table point used converged when built).
+pub fn from_table(o: &TableOutput) -> Evaluation {
+    Evaluation {
+        force_x: o.force_x,
+        force_y: o.force_y,
+        spin_moment: o.spin_moment,
+        traction_coefficient: o.traction_coefficient,
+        max_temperature: o.max_temperature,
+        fluid_load_fraction: o.fluid_load_fraction,
+        converged: o.converged,
+        iterations: 0,
+        residual: 0.0,
+    }
 }
 
 impl Evaluator {
-    /// The `evaluation_mode` output: 1 table, 2 exact.
+    /// The `evaluation_mode` output when no point is evaluated (a lifted wheel): 1 table, 2 exact.
     pub fn code(&self) -> i32 {
         match self {
             Evaluator::Exact => 2,
+            Evaluator::Table { .. } => 1,
         }
     }
 
-    /// Evaluates one operating point; `Err` carries the library's message.
+    /// Which way `point` with `params` goes, and what to log about it (once per instance). Table-only mode
+    /// with other parameters than the table's is an error.
+    pub fn route(
+        &self,
+        params: &Params,
+        point: &OperatingPoint,
+    ) -> Result<(Route<'_>, Option<Notice>), String> {
+        let (table, mode) = match self {
+            Evaluator::Exact => return Ok((Route::Exact, None)),
+            Evaluator::Table { table, mode } => (table.as_ref(), *mode),
+        };
+        let matches = table.matches(params);
+        let inside = table.in_range(point);
+        match mode {
+            Mode::TableOnly if !matches => Err(format!(
+                "mode 1 (table only): the parameters differ from those the lookup table at {} was built for",
+                location(table)
+            )),
+            Mode::TableOnly => Ok((Route::Table(table), (!inside).then_some(Notice::Clamped))),
+            _ if !matches => Ok((
+                Route::Exact,
+                Some(Notice::FellBack(format!(
+                    "the parameters differ from those the lookup table at {} was built for",
+                    location(table)
+                ))),
+            )),
+            _ if !inside => Ok((
+                Route::Exact,
+                Some(Notice::FellBack(
+                    "an operating point lies outside the lookup table's ranges".into(),
+                )),
+            )),
+            _ => Ok((Route::Table(table), None)),
+        }
+    }
+
+    /// Evaluates one operating point: (results, evaluation_mode code 1 table / 2 exact, notice). An exact
+    /// solve uses the solver tolerance tightened to `tolerance` if given (the table is chosen by `params`
+    /// as they are).
     pub fn evaluate(
         &self,
         params: &Params,
         point: &OperatingPoint,
-    ) -> wheelrail::Result<Evaluation> {
-        match self {
-            Evaluator::Exact => {
-                let s = wheelrail::solve(params, point)?;
-                let g = &s.global;
-                Ok(Evaluation {
-                    force_x: g.force_x,
-                    force_y: g.force_y,
-                    spin_moment: g.spin_moment,
-                    traction_coefficient: g.traction_coefficient,
-                    max_temperature: g.max_temperature,
-                    fluid_load_fraction: g.fluid_load_fraction,
-                    converged: s.report.converged,
-                    iterations: s.report.iterations,
-                    residual: s.report.residual,
-                })
+        tolerance: Option<f64>,
+    ) -> Result<(Evaluation, i32, Option<Notice>), EvalError> {
+        let (route, notice) = self.route(params, point).map_err(EvalError::Mode)?;
+        match route {
+            Route::Exact => {
+                let mut p = params.clone();
+                if let Some(t) = tolerance {
+                    p.solver.tolerance = p.solver.tolerance.min(t);
+                }
+                Ok((exact(&p, point)?, 2, notice))
             }
+            Route::Table(t) => Ok((from_table(&t.evaluate(point)?), 1, notice)),
         }
     }
+}
+
+/// Why an evaluation failed: the library's error, or the evaluation mode's.
+#[derive(Debug)]
+pub enum EvalError {
+    /// From the library (named by the library's parameter names).
+    Library(wheelrail::Error),
+    /// From the evaluation mode.
+    Mode(String),
+}
+
+impl From<wheelrail::Error> for EvalError {
+    fn from(e: wheelrail::Error) -> Self {
+        EvalError::Library(e)
+    }
+}
+
+fn location(t: &Table) -> String {
+    t.path()
+        .map_or_else(|| "<memory>".into(), |p| p.display().to_string())
 }
 
 /// Where the lookup table is: `table_file` if given, else `resources/table` of the unpacked FMU.
@@ -105,30 +230,27 @@ pub fn table_location(table_file: &str, resources: Option<&Path>) -> Option<Path
 }
 
 /// The evaluator for `mode` and a table location, and the warning to log once if auto mode falls back to
-/// the exact solver. In table-only mode, no usable table is an error.
+/// the exact solver for lack of a usable table. In table-only mode, no usable table is an error.
 pub fn resolve(mode: Mode, table: Option<&Path>) -> Result<(Evaluator, Option<String>), String> {
-    match mode {
-        Mode::ExactOnly => Ok((Evaluator::Exact, None)),
-        Mode::Auto => Ok((
-            Evaluator::Exact,
-            Some(format!("{}; using the exact solver", no_table(table))),
-        )),
-        Mode::TableOnly => Err(format!(
-            "mode 1 (table only) needs a usable lookup table, but {}",
-            no_table(table)
-        )),
+    if mode == Mode::ExactOnly {
+        return Ok((Evaluator::Exact, None));
     }
-}
-
-/// Why no lookup table is usable. Table evaluation arrives with issue 5; until then no table is readable.
-fn no_table(location: Option<&Path>) -> String {
-    match location {
-        None => "table_file is empty and the FMU's resources directory is unknown".into(),
-        Some(p) if !p.exists() => format!("there is no lookup table at {}", p.display()),
-        Some(p) => format!(
-            "the lookup table at {} cannot be read by this build (no table support yet)",
-            p.display()
-        ),
+    let loaded = match table {
+        None => Err("table_file is empty and the FMU's resources directory is unknown".into()),
+        Some(p) if !p.exists() => Err(format!("there is no lookup table at {}", p.display())),
+        Some(p) => {
+            Table::load_shared(p).map_err(|e| format!("the lookup table cannot be used: {e}"))
+        }
+    };
+    match (mode, loaded) {
+        (_, Ok(table)) => Ok((Evaluator::Table { table, mode }, None)),
+        (Mode::TableOnly, Err(why)) => Err(format!(
+            "mode 1 (table only) needs a usable lookup table, but {why}"
+        )),
+        (_, Err(why)) => Ok((
+            Evaluator::Exact,
+            Some(format!("{why}; using the exact solver")),
+        )),
     }
 }
 

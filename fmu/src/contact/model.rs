@@ -13,12 +13,20 @@
 //! - **Standstill:** |V| below `minimum_speed` (default [`DEFAULT_MINIMUM_SPEED`] m/s) is raised to it, so
 //!   a creepage still means a slip velocity and nothing divides by zero; V = 0 counts as forwards.
 //! - **Wetness** outside [0, 1] is clamped, with one warning per instance (until `fmi2Reset`).
-//! - **Derivatives:** one forward difference along the seed direction of the inputs, each evaluation with the
-//!   solver tolerance tightened to [`DERIVATIVE_TOLERANCE`], so that solver noise (relative error ≈
-//!   tolerance/step = 10⁻⁴) stays far below the step. Where a cell of the discretised contact switches
-//!   between stick and slip, F(ξ) has a kink and this is the slope on the side of the seed direction.
+//! - **Lookup table** (issue 5): `mode` 0 (auto) evaluates by the table where it was built for the current
+//!   parameters and the point lies inside its ranges, else by the exact solver (each reason logged once per
+//!   instance); `mode` 1 (table only) clamps points to the ranges (one warning) and refuses other
+//!   parameters. `evaluation_mode` tells which evaluated the current outputs.
+//! - **Derivatives:** by table, the exact derivatives of the interpolant (its Jacobian, chained through the
+//!   frame turn, the minimum speed and the wetness clamp). By the exact solver, one forward difference
+//!   along the seed direction of the inputs, each evaluation with the solver tolerance tightened to
+//!   [`DERIVATIVE_TOLERANCE`], so that solver noise (relative error ≈ tolerance/step = 10⁻⁴) stays far
+//!   below the step. Where a cell of the discretised contact switches between stick and slip, F(ξ) has a
+//!   kink and this is the slope on the side of the seed direction.
 
-use super::evaluator::{Evaluation, Evaluator, Mode, resolve, table_location};
+use super::evaluator::{
+    EvalError, Evaluation, Evaluator, Mode, Notice, Route, resolve, table_location,
+};
 use super::variables::*;
 use crate::fmi2::derivative::forward_difference;
 use crate::fmi2::ffi::Status;
@@ -89,6 +97,37 @@ pub struct WheelRailModel {
     resources: Option<PathBuf>,
     resolved: Option<Resolved>,
     wetness_warned: bool,
+    /// Table notices already logged (each once per instance, until `fmi2Reset`).
+    noticed: Vec<Notice>,
+}
+
+/// The FMU's Real inputs in the order of the table's axes (ξ, η, φ, F_N, V, w).
+const INPUTS: [usize; 6] = [
+    CREEPAGE_LONGITUDINAL,
+    CREEPAGE_LATERAL,
+    SPIN_CREEPAGE,
+    NORMAL_FORCE,
+    ROLLING_SPEED,
+    WETNESS,
+];
+/// The FMU's Real outputs in the order of the table Jacobian's rows.
+const OUTPUTS: [usize; 6] = [
+    FORCE_LONGITUDINAL,
+    FORCE_LATERAL,
+    SPIN_MOMENT,
+    TRACTION_COEFFICIENT,
+    MAX_TEMPERATURE,
+    FLUID_LOAD_FRACTION,
+];
+
+/// The current inputs in the solved (forward-rolling) frame.
+struct Solved {
+    point: OperatingPoint,
+    /// −1 rolling backwards (F_x, F_y and the creepages turn), else 1.
+    turn: f64,
+    /// ∂point/∂input per input (diagonal): the turn for ξ and η, the sign of V unless raised to the
+    /// minimum speed, 0 for a clamped wetness.
+    chain: [f64; 6],
 }
 
 impl WheelRailModel {
@@ -120,7 +159,7 @@ impl WheelRailModel {
     }
 
     /// The library's parameter set from the parameters (defaults for everything the FMU does not expose).
-    fn params(values: &Values, tolerance: Option<f64>) -> Result<Params, String> {
+    fn params(values: &Values) -> Result<Params, String> {
         let mut p = Params::default();
         p.roughness.k_r = values.real(ROUGHNESS);
         p.geometry.curvature_x = values.real(CURVATURE_LONGITUDINAL);
@@ -134,14 +173,82 @@ impl WheelRailModel {
         let n = usize::try_from(values.integer(GRID_SIZE)).unwrap_or(0);
         p.grid.nx = n;
         p.grid.ny = n;
-        if let Some(t) = tolerance {
-            p.solver.tolerance = p.solver.tolerance.min(t);
-        }
         p.validate().map_err(|e| translate(e, values))?;
         Ok(p)
     }
 
+    /// The operating point of the current inputs in the solved frame (None: the wheel is lifted). Clamps
+    /// the wetness to [0, 1] with one warning per instance.
+    fn solved(
+        &mut self,
+        values: &Values,
+        log: &Logger,
+        status: &mut Status,
+    ) -> Result<Option<Solved>, String> {
+        let minimum_speed = values.real(MINIMUM_SPEED);
+        wheelrail::error::check_positive("minimum_speed", minimum_speed, "m/s")
+            .map_err(|e| e.to_string())?;
+        let normal_force = values.real(NORMAL_FORCE);
+        if normal_force <= LIFT_OFF_LOAD {
+            return Ok(None);
+        }
+        let wetness = values.real(WETNESS);
+        let clamped = wetness.clamp(0.0, 1.0);
+        if clamped != wetness && !self.wetness_warned {
+            log.warning(&format!(
+                "wetness = {wetness} is outside [0, 1] and is clamped to {clamped} (warned once)"
+            ));
+            self.wetness_warned = true;
+            *status = Status::Warning;
+        }
+        let speed = values.real(ROLLING_SPEED);
+        // rolling backwards: solve in the frame turned by 180° about z (module documentation)
+        let turn = if speed < 0.0 { -1.0 } else { 1.0 };
+        Ok(Some(Solved {
+            point: OperatingPoint {
+                creepage_x: turn * values.real(CREEPAGE_LONGITUDINAL),
+                creepage_y: turn * values.real(CREEPAGE_LATERAL),
+                spin: values.real(SPIN_CREEPAGE),
+                normal_force,
+                speed: speed.abs().max(minimum_speed),
+                wetness: clamped,
+            },
+            turn,
+            chain: [
+                turn,
+                turn,
+                1.0,
+                1.0,
+                if speed.abs() > minimum_speed {
+                    turn
+                } else {
+                    0.0
+                },
+                if clamped == wetness { 1.0 } else { 0.0 },
+            ],
+        }))
+    }
+
+    /// Logs a table notice the first time it occurs in this instance.
+    fn notice(&mut self, notice: Notice, log: &Logger, status: &mut Status) {
+        if self.noticed.contains(&notice) {
+            return;
+        }
+        match &notice {
+            Notice::FellBack(why) => log.warning(&format!(
+                "mode 0 (auto): {why}; the exact solver evaluates such points (warned once)"
+            )),
+            Notice::Clamped => log.warning(
+                "mode 1 (table only): an operating point lies outside the lookup table's ranges and is \
+                 clamped to them (warned once)",
+            ),
+        }
+        self.noticed.push(notice);
+        *status = Status::Warning;
+    }
+
     /// Evaluates the outputs of the current values: (results in the FMU's frame, evaluation_mode, status).
+    /// `tolerance` tightens the exact solver's tolerance (for finite differences).
     fn evaluate(
         &mut self,
         values: &Values,
@@ -149,12 +256,8 @@ impl WheelRailModel {
         log: &Logger,
     ) -> Result<(Evaluation, i32, Status), String> {
         let (evaluator, mut status) = self.evaluator(values, log)?;
-        let params = Self::params(values, tolerance)?;
-        let minimum_speed = values.real(MINIMUM_SPEED);
-        wheelrail::error::check_positive("minimum_speed", minimum_speed, "m/s")
-            .map_err(|e| e.to_string())?;
-        let normal_force = values.real(NORMAL_FORCE);
-        if normal_force <= LIFT_OFF_LOAD {
+        let params = Self::params(values)?;
+        let Some(solved) = self.solved(values, log, &mut status)? else {
             let lifted = Evaluation {
                 force_x: 0.0,
                 force_y: 0.0,
@@ -167,33 +270,63 @@ impl WheelRailModel {
                 residual: 0.0,
             };
             return Ok((lifted, evaluator.code(), status));
-        }
-        let wetness = values.real(WETNESS);
-        let clamped = wetness.clamp(0.0, 1.0);
-        if clamped != wetness && !self.wetness_warned {
-            log.warning(&format!(
-                "wetness = {wetness} is outside [0, 1] and is clamped to {clamped} (warned once)"
-            ));
-            self.wetness_warned = true;
-            status = Status::Warning;
-        }
-        let speed = values.real(ROLLING_SPEED);
-        // rolling backwards: solve in the frame turned by 180° about z (module documentation)
-        let turn = if speed < 0.0 { -1.0 } else { 1.0 };
-        let point = OperatingPoint {
-            creepage_x: turn * values.real(CREEPAGE_LONGITUDINAL),
-            creepage_y: turn * values.real(CREEPAGE_LATERAL),
-            spin: values.real(SPIN_CREEPAGE),
-            normal_force,
-            speed: speed.abs().max(minimum_speed),
-            wetness: clamped,
         };
-        let mut e = evaluator
-            .evaluate(&params, &point)
+        let (mut e, code, notice) = evaluator
+            .evaluate(&params, &solved.point, tolerance)
+            .map_err(|e| match e {
+                EvalError::Library(e) => translate(e, values),
+                EvalError::Mode(m) => m,
+            })?;
+        if let Some(n) = notice {
+            self.notice(n, log, &mut status);
+        }
+        e.force_x *= solved.turn;
+        e.force_y *= solved.turn;
+        Ok((e, code, status))
+    }
+
+    /// The directional derivative from the table interpolant's Jacobian when the table evaluates the
+    /// current point (None: the exact solver does, or the wheel is lifted).
+    fn table_derivative(
+        &mut self,
+        values: &Values,
+        unknowns: &[usize],
+        knowns: &[usize],
+        seed: &[f64],
+        log: &Logger,
+    ) -> Result<Option<Vec<f64>>, String> {
+        let (evaluator, _) = self.evaluator(values, log)?;
+        let params = Self::params(values)?;
+        let mut status = Status::Ok;
+        let Some(solved) = self.solved(values, log, &mut status)? else {
+            return Ok(None);
+        };
+        let Route::Table(table) = evaluator.route(&params, &solved.point)?.0 else {
+            return Ok(None);
+        };
+        let (_, jac) = table
+            .evaluate_with_jacobian(&solved.point)
             .map_err(|e| translate(e, values))?;
-        e.force_x *= turn;
-        e.force_y *= turn;
-        Ok((e, evaluator.code(), status))
+        // F_x and F_y turn back with the frame; the inputs enter through the chain factors
+        let out_turn = [solved.turn, solved.turn, 1.0, 1.0, 1.0, 1.0];
+        let index = |list: &[usize], i: usize| list.iter().position(|x| *x == i);
+        unknowns
+            .iter()
+            .map(|&u| {
+                let r =
+                    index(&OUTPUTS, u).ok_or("derivative of an output the table does not give")?;
+                Ok(knowns
+                    .iter()
+                    .zip(seed)
+                    .map(|(&k, s)| {
+                        index(&INPUTS, k)
+                            .map_or(0.0, |c| out_turn[r] * jac[r][c] * solved.chain[c] * s)
+                    })
+                    .sum())
+            })
+            .collect::<Result<Vec<f64>, &str>>()
+            .map(Some)
+            .map_err(str::to_string)
     }
 }
 
@@ -222,21 +355,29 @@ impl Model for WheelRailModel {
             resources,
             resolved: None,
             wetness_warned: false,
+            noticed: Vec::new(),
         }
     }
 
     fn reset(&mut self) {
         self.resolved = None;
         self.wetness_warned = false;
+        self.noticed.clear();
     }
 
     fn calculate(&mut self, values: &mut Values, log: &Logger) -> Result<Status, String> {
         let (e, mode, mut status) = self.evaluate(values, None, log)?;
         if !e.converged {
-            log.warning(&format!(
-                "the coupled solver did not converge after {} iterations (residual {:.3e}); output converged = false",
-                e.iterations, e.residual
-            ));
+            log.warning(&if mode == 1 {
+                "the lookup table's points around this operating point did not converge when the table was \
+                 built; output converged = false"
+                    .to_string()
+            } else {
+                format!(
+                    "the coupled solver did not converge after {} iterations (residual {:.3e}); output converged = false",
+                    e.iterations, e.residual
+                )
+            });
             status = Status::Warning;
         }
         write_outputs(values, &e, mode);
@@ -251,6 +392,9 @@ impl Model for WheelRailModel {
         seed: &[f64],
         log: &Logger,
     ) -> Result<Vec<f64>, String> {
+        if let Some(d) = self.table_derivative(values, unknowns, knowns, seed, log)? {
+            return Ok(d);
+        }
         forward_difference(values, unknowns, knowns, seed, DERIVATIVE_STEP, |v| {
             let (e, mode, _) = self.evaluate(v, Some(DERIVATIVE_TOLERANCE), log)?;
             let mut out = v.clone();
@@ -263,6 +407,7 @@ impl Model for WheelRailModel {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fmi2::logging::tests::capturing;
 
     fn exact() -> Values {
         let mut v = Values::start(&VARIABLES);
@@ -292,6 +437,193 @@ mod tests {
         assert!(e.contains("roughness: 1.5"), "{e}");
         assert!(error_of(|v| v.set(MODE, Value::Integer(7))).contains("mode: 7"));
         assert!(error_of(|v| v.set(MINIMUM_SPEED, Value::Real(0.0))).contains("minimum_speed"));
+    }
+
+    /// A small table for the FMU's default parameters on a 6 × 6 grid, written to a temporary directory.
+    fn table_dir() -> PathBuf {
+        use std::sync::OnceLock;
+        use wheelrail::table::{Axes, AxesSpec, AxisSpec};
+        static DIR: OnceLock<PathBuf> = OnceLock::new();
+        DIR.get_or_init(|| {
+            let pts = |p: &[f64]| {
+                Some(AxisSpec {
+                    points: Some(p.to_vec()),
+                    ..Default::default()
+                })
+            };
+            let axes = Axes::from_spec(&AxesSpec {
+                creepage_x: Some(AxisSpec {
+                    points: Some(vec![0.0, 0.002, 0.01]),
+                    mirrored: Some(true),
+                    ..Default::default()
+                }),
+                creepage_y: pts(&[0.0, 0.002, 0.01]),
+                spin: pts(&[-0.5, -0.1, 0.1, 0.5]),
+                normal_force: pts(&[80e3, 120e3]),
+                speed: pts(&[20.0, 40.0]),
+                wetness: pts(&[0.0, 0.2]),
+            })
+            .unwrap();
+            let mut v = Values::start(&VARIABLES);
+            v.set(GRID_SIZE, Value::Integer(6));
+            let params = WheelRailModel::params(&v).unwrap();
+            let dir =
+                std::env::temp_dir().join(format!("wheelrail-fmu-table-{}", std::process::id()));
+            let mut files = wheelrail::table::build(&params, &axes, None, &|| ()).unwrap();
+            files.write(&dir).unwrap();
+            dir
+        })
+        .clone()
+    }
+
+    fn with_table(mode: i32) -> Values {
+        let mut v = Values::start(&VARIABLES);
+        v.set(MODE, Value::Integer(mode));
+        v.set(GRID_SIZE, Value::Integer(6));
+        v.set(
+            TABLE_FILE,
+            Value::String(table_dir().to_str().unwrap().to_string()),
+        );
+        for (i, x) in [
+            (0, 0.003),
+            (1, -0.001),
+            (2, 0.2),
+            (3, 100e3),
+            (4, 30.0),
+            (5, 0.1),
+        ] {
+            v.set(INPUTS[i], Value::Real(x));
+        }
+        v
+    }
+
+    fn outputs(v: &Values) -> [f64; 6] {
+        OUTPUTS.map(|i| v.real(i))
+    }
+
+    #[test]
+    fn auto_mode_uses_the_table_inside_its_ranges_and_else_the_exact_solver_warning_once() {
+        let (log, seen) = capturing(false);
+        let mut m = WheelRailModel::new(None);
+        let mut v = with_table(0);
+        assert_eq!(m.calculate(&mut v, &log).unwrap(), Status::Ok);
+        assert_eq!(v.integer(EVALUATION_MODE), 1);
+        let t = wheelrail::table::Table::load_shared(&table_dir()).unwrap();
+        let want = t
+            .evaluate(&OperatingPoint {
+                creepage_x: 0.003,
+                creepage_y: -0.001,
+                spin: 0.2,
+                normal_force: 100e3,
+                speed: 30.0,
+                wetness: 0.1,
+            })
+            .unwrap();
+        assert_eq!(v.real(FORCE_LONGITUDINAL), want.force_x);
+        assert_eq!(v.real(SPIN_MOMENT), want.spin_moment);
+        assert!(v.boolean(CONVERGED));
+        assert!(seen.borrow().is_empty());
+        // outside the speed range: exact, one warning, then silent
+        v.set(ROLLING_SPEED, Value::Real(60.0));
+        assert_eq!(m.calculate(&mut v, &log).unwrap(), Status::Warning);
+        assert_eq!(v.integer(EVALUATION_MODE), 2);
+        assert_eq!(m.calculate(&mut v, &log).unwrap(), Status::Ok);
+        assert_eq!(seen.borrow().len(), 1);
+        assert!(
+            seen.borrow()[0]
+                .2
+                .contains("outside the lookup table's ranges")
+        );
+        // other parameters: exact, with its own single warning
+        v.set(ROLLING_SPEED, Value::Real(30.0));
+        v.set(ROUGHNESS, Value::Real(0.6));
+        assert_eq!(m.calculate(&mut v, &log).unwrap(), Status::Warning);
+        assert_eq!(v.integer(EVALUATION_MODE), 2);
+        m.calculate(&mut v, &log).unwrap();
+        assert_eq!(seen.borrow().len(), 2);
+        assert!(seen.borrow()[1].2.contains("parameters differ"));
+        // back to the table's parameters: the table again
+        v.set(ROUGHNESS, Value::Real(0.5));
+        m.calculate(&mut v, &log).unwrap();
+        assert_eq!(v.integer(EVALUATION_MODE), 1);
+        // the table's outputs agree with the exact solver at a table point (wet, η < 0 by mirroring)
+        let mut exact = v.clone();
+        exact.set(MODE, Value::Integer(2));
+        for (i, x) in [
+            (0, 0.002),
+            (1, -0.002),
+            (2, -0.1),
+            (3, 80e3),
+            (4, 40.0),
+            (5, 0.2),
+        ] {
+            v.set(INPUTS[i], Value::Real(x));
+            exact.set(INPUTS[i], Value::Real(x));
+        }
+        m.calculate(&mut v, &log).unwrap();
+        WheelRailModel::new(None)
+            .calculate(&mut exact, &log)
+            .unwrap();
+        let (a, b) = (outputs(&v), outputs(&exact));
+        for k in 0..3 {
+            assert!((a[k] - b[k]).abs() < 1e-6 * 80e3, "{k}: {a:?} {b:?}");
+        }
+    }
+
+    #[test]
+    fn table_only_mode_clamps_with_one_warning_and_refuses_other_parameters() {
+        let (log, seen) = capturing(false);
+        let mut m = WheelRailModel::new(None);
+        let mut v = with_table(1);
+        v.set(ROLLING_SPEED, Value::Real(60.0));
+        assert_eq!(m.calculate(&mut v, &log).unwrap(), Status::Warning);
+        assert_eq!(v.integer(EVALUATION_MODE), 1);
+        let clamped = outputs(&v);
+        v.set(ROLLING_SPEED, Value::Real(40.0));
+        assert_eq!(m.calculate(&mut v, &log).unwrap(), Status::Ok);
+        assert_eq!(outputs(&v), clamped);
+        assert_eq!(seen.borrow().len(), 1);
+        assert!(seen.borrow()[0].2.contains("clamped"));
+        v.set(K_WET, Value::Real(0.3));
+        let e = m.calculate(&mut v, &log).unwrap_err();
+        assert!(e.contains("table only") && e.contains("differ"), "{e}");
+    }
+
+    #[test]
+    fn table_derivatives_are_those_of_the_interpolant_in_the_fmu_frame() {
+        let log = Logger::new(None, false);
+        let mut m = WheelRailModel::new(None);
+        let mut v = with_table(0);
+        // rolling backwards: the creepages and F_x, F_y turn
+        v.set(ROLLING_SPEED, Value::Real(-30.0));
+        // output and input scales for an absolute floor of the comparison
+        let out_scale = [1e5, 1e5, 1e3, 1.0, 300.0, 1.0];
+        let in_scale = [1e-2, 1e-2, 1.0, 1e5, 30.0, 1.0];
+        let steps = [1e-7, 1e-7, 1e-6, 1.0, 1e-5, 1e-7];
+        for c in 0..6 {
+            let mut seed = [0.0; 6];
+            seed[c] = 1.0;
+            let d = m
+                .directional_derivative(&v, &OUTPUTS, &INPUTS, &seed, &log)
+                .unwrap();
+            let mut at = |x: f64| {
+                let mut w = v.clone();
+                w.set(INPUTS[c], Value::Real(v.real(INPUTS[c]) + x));
+                m.calculate(&mut w, &log).unwrap();
+                assert_eq!(w.integer(EVALUATION_MODE), 1);
+                outputs(&w)
+            };
+            let (p, q) = (at(steps[c]), at(-steps[c]));
+            for r in 0..6 {
+                let fd = (p[r] - q[r]) / (2.0 * steps[c]);
+                let floor = 1e-6 * out_scale[r] / in_scale[c];
+                assert!(
+                    (d[r] - fd).abs() <= 1e-4 * fd.abs() + floor,
+                    "output {r}, input {c}: {} vs {fd}",
+                    d[r]
+                );
+            }
+        }
     }
 
     #[test]

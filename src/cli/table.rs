@@ -1,0 +1,366 @@
+//! `wheelrail table`: build, merge, verify and describe lookup tables (issue 5), and the JSON of a point
+//! evaluated by table (`wheelrail point --table DIR`).
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use wheelrail::table::file::{ShardRecord, TableFiles};
+use wheelrail::table::verify::{self, TARGET_MAX, TARGET_P99, VerifyReport};
+use wheelrail::table::{self, Axes, DIMENSIONS, Table};
+use wheelrail::{OperatingPoint, Params};
+
+/// Arguments of `wheelrail table`.
+#[derive(Debug, Args)]
+pub struct TableArgs {
+    #[command(subcommand)]
+    command: TableCommand,
+}
+
+#[derive(Debug, Subcommand)]
+enum TableCommand {
+    /// Compute a table with the exact solver on all cores (progress and ETA on stderr).
+    Build(BuildArgs),
+    /// Join the shards 1..N of a build into one table (identical to a build in one piece).
+    Merge(MergeArgs),
+    /// Compare a table with the exact solver at random points and cell midpoints; exits with 1 if the
+    /// target (p99 of |ΔF|/F_N ≤ 0.01, max ≤ 0.03) is missed.
+    Verify(VerifyArgs),
+    /// Describe a table or shard: format, model version, parameters, axes, build.
+    Info(InfoArgs),
+}
+
+#[derive(Debug, Args)]
+struct BuildArgs {
+    /// Parameter file (TOML) [default: the default parameter set].
+    #[arg(long, value_name = "FILE.toml")]
+    params: Option<PathBuf>,
+    /// Axes file (TOML): per axis `points = [...]`, or `min`, `max`, `count`, `spacing` (linear, log,
+    /// sinh) and `scale` (sinh) [default: the built-in axes].
+    #[arg(long, value_name = "FILE.toml")]
+    axes: Option<PathBuf>,
+    /// Output directory.
+    #[arg(long, value_name = "DIR", default_value = "table")]
+    out: PathBuf,
+    /// Build only part K of N (1 ≤ K ≤ N: the points whose index mod N is K − 1), e.g. one task of a
+    /// cluster array job; join the parts with `wheelrail table merge`.
+    #[arg(long, value_name = "K/N")]
+    shard: Option<String>,
+}
+
+#[derive(Debug, Args)]
+struct MergeArgs {
+    /// Output directory of the merged table.
+    out: PathBuf,
+    /// The shard directories (each of 1..N exactly once).
+    #[arg(required = true)]
+    shards: Vec<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+struct VerifyArgs {
+    /// Table directory.
+    dir: PathBuf,
+    /// Number of sample points (half uniform random, half cell midpoints).
+    #[arg(long, default_value_t = 2000)]
+    samples: usize,
+    /// Seed of the sample points.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Print the report as one JSON object.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Debug, Args)]
+struct InfoArgs {
+    /// Table (or shard) directory.
+    dir: PathBuf,
+}
+
+/// Runs `wheelrail table`.
+pub fn run(a: &TableArgs) -> Result<()> {
+    match &a.command {
+        TableCommand::Build(b) => build(b),
+        TableCommand::Merge(m) => merge(m),
+        TableCommand::Verify(v) => run_verify(v),
+        TableCommand::Info(i) => info(&i.dir),
+    }
+}
+
+fn parse_shard(text: &str) -> Result<ShardRecord> {
+    let bad = || wheelrail::Error::OutOfRange {
+        name: "shard".into(),
+        value: text.into(),
+        allowed: "K/N with whole numbers 1 <= K <= N".into(),
+    };
+    let (k, n) = text.split_once('/').ok_or_else(bad)?;
+    let (index, count) = (
+        k.trim().parse::<usize>().map_err(|_| bad())?,
+        n.trim().parse::<usize>().map_err(|_| bad())?,
+    );
+    if index == 0 || index > count {
+        bail!(bad());
+    }
+    Ok(ShardRecord { index, count })
+}
+
+fn progress(len: usize, what: &str) -> ProgressBar {
+    let pb = ProgressBar::new(len as u64);
+    pb.set_style(
+        ProgressStyle::with_template(&format!(
+            "{{elapsed_precise}} [{{wide_bar}}] {{pos}}/{{len}} {what}, ETA {{eta_precise}}"
+        ))
+        .expect("valid template"),
+    );
+    pb
+}
+
+fn build(a: &BuildArgs) -> Result<()> {
+    let params = match &a.params {
+        Some(p) => Params::from_toml_file(p)?,
+        None => Params::default(),
+    };
+    let axes = match &a.axes {
+        Some(p) => Axes::from_toml_file(p)?,
+        None => Axes::default(),
+    };
+    let shard = a.shard.as_deref().map(parse_shard).transpose()?;
+    let points = match shard {
+        Some(s) => table::file::shard_len(axes.len(), s),
+        None => axes.len(),
+    };
+    eprintln!(
+        "building {points} points ({}) on {} threads into {}",
+        shape_text(&axes),
+        rayon::current_num_threads(),
+        a.out.display()
+    );
+    let pb = progress(points, "points");
+    let mut files = table::build(&params, &axes, shard, &|| pb.inc(1))?;
+    pb.finish_and_clear();
+    files.write(&a.out)?;
+    report_written(&a.out, &files);
+    Ok(())
+}
+
+fn shape_text(axes: &Axes) -> String {
+    axes.shape()
+        .iter()
+        .zip(DIMENSIONS.iter())
+        .map(|(n, d)| format!("{} {n}", d.symbol))
+        .collect::<Vec<_>>()
+        .join(" × ")
+}
+
+fn report_written(dir: &Path, files: &TableFiles) {
+    let b = &files.sidecar.build;
+    let n = files.converged.len();
+    eprintln!(
+        "wrote {}: {n} points in {:.1} s ({:.3} s per point and thread)",
+        dir.display(),
+        b.duration_seconds,
+        b.duration_seconds * b.threads as f64 / n as f64,
+    );
+    let u = &files.sidecar.unconverged;
+    if !u.is_empty() {
+        eprintln!(
+            "warning: {} point(s) did not converge even after a retry; they are flagged 0 in converged.npy \
+             and listed in table.json (`unconverged`); evaluations near them report converged = false",
+            u.len()
+        );
+        for r in u.iter().take(10) {
+            eprintln!("  {:?} (residual {:.3e})", r.point, r.residual);
+        }
+    }
+}
+
+fn merge(a: &MergeArgs) -> Result<()> {
+    let shards = a
+        .shards
+        .iter()
+        .map(|p| Ok((TableFiles::read(p)?, p.as_path())))
+        .collect::<Result<Vec<_>>>()?;
+    let mut files = table::merge(shards)?;
+    files.write(&a.out)?;
+    report_written(&a.out, &files);
+    Ok(())
+}
+
+fn run_verify(a: &VerifyArgs) -> Result<()> {
+    if a.samples == 0 {
+        bail!(wheelrail::Error::out_of_range(
+            "samples",
+            0.0,
+            "whole number >= 1"
+        ));
+    }
+    let t = Table::load(&a.dir)?;
+    let points = verify::sample_points(&t, a.samples, a.seed);
+    let pb = progress(points.len(), "exact points");
+    let start = Instant::now();
+    let r = verify::verify(&t, &points, &|| pb.inc(1))?;
+    pb.finish_and_clear();
+    if a.json {
+        println!("{}", serde_json::to_string(&r).expect("report serialises"));
+    } else {
+        print_report(&r, start.elapsed().as_secs_f64());
+    }
+    if !r.meets_target() {
+        bail!(
+            "accuracy target missed: |ΔF|/F_N p99 {:.2e} (target {TARGET_P99}), max {:.2e} (target {TARGET_MAX}), \
+             {} of {} points compared, {} near unconverged table points",
+            r.force.p99,
+            r.force.max,
+            r.compared,
+            points.len(),
+            r.table_unconverged
+        );
+    }
+    Ok(())
+}
+
+fn print_report(r: &VerifyReport, seconds: f64) {
+    println!(
+        "{} points compared with the exact solver ({} skipped: exact solution not converged) in {seconds:.1} s",
+        r.compared, r.skipped_unconverged
+    );
+    println!(
+        "{:>26}  {:>10}  {:>10}  {:>10}",
+        "error", "max", "p99", "mean"
+    );
+    for (name, s) in [
+        ("|dF|/F_N", r.force),
+        ("|dM_z|/(F_N c)", r.spin_moment),
+        ("|df| traction coeff.", r.traction_coefficient),
+        ("|dT_max| [K]", r.max_temperature),
+        ("|d fluid load fraction|", r.fluid_load_fraction),
+    ] {
+        println!(
+            "{name:>26}  {:>10.3e}  {:>10.3e}  {:>10.3e}",
+            s.max, s.p99, s.mean
+        );
+    }
+    if let Some(w) = r.worst {
+        println!("worst |dF|/F_N {:.3e} at {:?}", w.force_error, w.point);
+    }
+    println!(
+        "target (p99 <= {TARGET_P99}, max <= {TARGET_MAX}): {}",
+        if r.meets_target() { "met" } else { "MISSED" }
+    );
+}
+
+fn info(dir: &Path) -> Result<()> {
+    let f = TableFiles::read(dir)?;
+    let s = &f.sidecar;
+    println!("table {}", dir.display());
+    println!(
+        "  format          {} version {}",
+        s.format, s.format_version
+    );
+    println!("  model version   {}", s.model_version);
+    println!("  fingerprint     {}", s.fingerprint);
+    println!(
+        "  parameters      {}",
+        if s.params == Params::default() {
+            "the default parameter set"
+        } else {
+            "custom (see params in table.json)"
+        }
+    );
+    if let Some(sh) = s.shard {
+        println!(
+            "  shard           {}/{} ({} points; join with `wheelrail table merge`)",
+            sh.index,
+            sh.count,
+            f.converged.len()
+        );
+    }
+    println!(
+        "  points          {} = {}",
+        f.axes.len(),
+        shape_text(&f.axes)
+    );
+    for (a, d) in f.axes.0.iter().zip(DIMENSIONS.iter()) {
+        println!(
+            "  {:<4} {:<13} {:>3} points, {:>10} .. {:<10} [{}] {:?}{}",
+            d.symbol,
+            d.name,
+            a.points.len(),
+            a.min(),
+            a.max(),
+            d.unit,
+            d.interpolation,
+            if a.mirrored { ", mirrored" } else { "" }
+        );
+    }
+    let bytes: u64 = s
+        .outputs
+        .iter()
+        .chain(std::iter::once(&s.converged))
+        .filter_map(|r| std::fs::metadata(dir.join(&r.file)).ok())
+        .map(|m| m.len())
+        .sum();
+    println!(
+        "  outputs         {} ({:.2} MB of arrays)",
+        s.outputs
+            .iter()
+            .map(|o| o.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
+        bytes as f64 / 1e6
+    );
+    println!(
+        "  built           {} in {:.1} s on {} threads{}",
+        s.build.date,
+        s.build.duration_seconds,
+        s.build.threads,
+        if s.build.merged_shards > 0 {
+            format!(" (merged from {} shards)", s.build.merged_shards)
+        } else {
+            String::new()
+        }
+    );
+    println!("  unconverged     {} point(s)", s.unconverged.len());
+    Ok(())
+}
+
+/// `wheelrail point --table DIR`: evaluates by table; the JSON keys are those of the exact point that a
+/// table provides, plus `in_range` and `"evaluation": "table"`.
+pub fn point_json(dir: &Path, params: &Params, pt: &OperatingPoint) -> Result<serde_json::Value> {
+    let t = Table::load(dir)?;
+    if let Some(e) = table::not_matching(&t, params) {
+        return Err(e).context(
+            "give the parameter file and flags the table was built with, or drop --table",
+        );
+    }
+    let o = t.evaluate(pt)?;
+    if !o.in_range {
+        eprintln!(
+            "warning: the point lies outside the table's ranges; each coordinate was clamped to its range"
+        );
+    }
+    if !o.converged {
+        eprintln!(
+            "warning: the interpolation used table points whose exact solution did not converge"
+        );
+    }
+    let h = wheelrail::solver::normal_contact(params, pt.normal_force)?;
+    Ok(serde_json::json!({
+        "force_x": o.force_x,
+        "force_y": o.force_y,
+        "spin_moment": o.spin_moment,
+        "traction_coefficient": o.traction_coefficient,
+        "normal_force": pt.normal_force,
+        "semi_axis_a": h.a,
+        "semi_axis_b": h.b,
+        "peak_pressure": h.p0,
+        "max_temperature": o.max_temperature,
+        "fluid_load_fraction": o.fluid_load_fraction,
+        "converged": o.converged,
+        "in_range": o.in_range,
+        "friction_law": params.friction.law.to_string(),
+        "evaluation": "table",
+    }))
+}

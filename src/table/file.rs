@@ -1,0 +1,664 @@
+//! The on-disk format (issue 5 §2): one `.npy` array per stored output plus `converged.npy`, and the JSON
+//! sidecar `table.json` with the format version, axes with units, outputs, the full parameter set and its
+//! fingerprint, the model version, build date and duration, and the SHA-256 of every array file.
+//!
+//! Arrays are little-endian f64 (u8 for the converged flags) in C order over (ξ, η, φ, F_N, V, w); a shard
+//! (one of N parts of a build) holds 1-D arrays of its points instead. Array bytes depend only on the
+//! parameters and the axes, never on the thread count or the date: those live only in the sidecar's `build`
+//! record. Reading verifies everything and names what does not match.
+
+use super::axes::{Axes, Axis, DIMENSIONS, DIMS, Interpolation};
+use crate::error::{Error, Result};
+use crate::params::{OperatingPoint, Params};
+use ndarray::{ArrayD, IxDyn};
+use ndarray_npy::{ReadNpyExt, WriteNpyExt};
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+use std::path::{Path, PathBuf};
+
+/// Value of the sidecar's `format` field.
+pub const FORMAT: &str = "wheelrail-table";
+/// Version of the format this build reads and writes.
+pub const FORMAT_VERSION: u32 = 1;
+/// File name of the sidecar.
+pub const SIDECAR: &str = "table.json";
+/// File of the per-point converged flags.
+pub const CONVERGED_FILE: &str = "converged.npy";
+/// Version of the model (the crate version) recorded in and required of every table.
+pub const MODEL_VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// Number of stored outputs.
+pub const OUTPUTS: usize = 5;
+
+/// One stored output: name (= file stem), unit, meaning.
+pub struct OutputInfo {
+    /// Name and file stem.
+    pub name: &'static str,
+    /// Unit.
+    pub unit: &'static str,
+    /// Meaning.
+    pub description: &'static str,
+}
+
+/// The stored outputs, in row order.
+pub const OUTPUT_INFO: [OutputInfo; OUTPUTS] = [
+    OutputInfo {
+        name: "force_x_per_normal_force",
+        unit: "-",
+        description: "F_x/F_N (Kalker's sign convention: force on the wheel)",
+    },
+    OutputInfo {
+        name: "force_y_per_normal_force",
+        unit: "-",
+        description: "F_y/F_N",
+    },
+    OutputInfo {
+        name: "spin_moment_per_normal_force_radius",
+        unit: "-",
+        description: "M_z/(F_N·c), c = sqrt(a·b) from moment_scale",
+    },
+    OutputInfo {
+        name: "max_temperature",
+        unit: "K",
+        description: "highest surface temperature in the contact",
+    },
+    OutputInfo {
+        name: "fluid_load_fraction",
+        unit: "-",
+        description: "share of the normal force carried by fluid pressure",
+    },
+];
+
+/// One axis in the sidecar.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AxisRecord {
+    /// Dimension name (operating-point field).
+    pub name: String,
+    /// Symbol.
+    pub symbol: String,
+    /// Unit.
+    pub unit: String,
+    /// Interpolation along the axis.
+    pub interpolation: Interpolation,
+    /// Only values ≥ 0 stored; the negative half by symmetry (see `symmetry`).
+    pub mirrored: bool,
+    /// The stored points.
+    pub points: Vec<f64>,
+}
+
+/// One array file in the sidecar.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ArrayRecord {
+    /// Output name.
+    pub name: String,
+    /// Unit.
+    pub unit: String,
+    /// Meaning.
+    pub description: String,
+    /// File name inside the table directory.
+    pub file: String,
+    /// SHA-256 of the file's bytes (lower-case hex).
+    pub sha256: String,
+}
+
+/// The spin moment's normalisation M_z/(F_N·c) with c(F_N) = contact_radius·(F_N/reference_force)^exponent:
+/// exponent 1/3 for Hertz from curvatures (a, b ∝ F_N^(1/3)), 0 for prescribed semi-axes.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MomentScale {
+    /// F_ref [N].
+    pub reference_force: f64,
+    /// c = sqrt(a·b) at F_ref [m].
+    pub contact_radius: f64,
+    /// Exponent of F_N/F_ref [-].
+    pub exponent: f64,
+}
+
+impl MomentScale {
+    /// The scale of `params` (Hertz at the bulk temperature, or the prescribed semi-axes).
+    pub fn of(params: &Params, reference_force: f64) -> Result<Self> {
+        let h = crate::solver::normal_contact(params, reference_force)?;
+        Ok(Self {
+            reference_force,
+            contact_radius: (h.a * h.b).sqrt(),
+            exponent: if params.geometry.semi_axes.is_some() {
+                0.0
+            } else {
+                1.0 / 3.0
+            },
+        })
+    }
+
+    /// c(F_N) [m].
+    #[inline]
+    pub fn radius(&self, normal_force: f64) -> f64 {
+        if self.exponent == 0.0 {
+            self.contact_radius
+        } else {
+            self.contact_radius * (normal_force / self.reference_force).powf(self.exponent)
+        }
+    }
+}
+
+/// A stored point whose exact solution did not converge even after the retry.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UnconvergedRecord {
+    /// Flat (C-order) index in the full table.
+    pub index: usize,
+    /// The operating point.
+    pub point: OperatingPoint,
+    /// Final residual of the coupled iteration.
+    pub residual: f64,
+}
+
+/// This directory holds part `index` of `count` (1-based) of a build: the points whose flat index i has
+/// i mod count = index − 1, as 1-D arrays in index order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShardRecord {
+    /// Part number, 1 ..= count.
+    pub index: usize,
+    /// Number of parts.
+    pub count: usize,
+}
+
+/// When and how the arrays were computed (the only fields that differ between identical builds).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BuildRecord {
+    /// UTC date and time of completion (ISO 8601).
+    pub date: String,
+    /// Wall-clock duration [s] (merged: the sum over the shards).
+    pub duration_seconds: f64,
+    /// Worker threads (merged: the largest over the shards).
+    pub threads: usize,
+    /// Shards merged into this table (0: built in one piece).
+    pub merged_shards: usize,
+}
+
+/// The sidecar `table.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sidecar {
+    /// Always [`FORMAT`].
+    pub format: String,
+    /// [`FORMAT_VERSION`].
+    pub format_version: u32,
+    /// Crate version of the model that computed the values.
+    pub model_version: String,
+    /// SHA-256 of the canonical JSON of `params` (see [`fingerprint`]).
+    pub fingerprint: String,
+    /// The full parameter set the values were computed with.
+    pub params: Params,
+    /// The axes in storage order.
+    pub axes: Vec<AxisRecord>,
+    /// The symmetries used for mirrored axes.
+    pub symmetry: Vec<String>,
+    /// Stored outputs and their files.
+    pub outputs: Vec<ArrayRecord>,
+    /// Per-point converged flags (1 converged, 0 not).
+    pub converged: ArrayRecord,
+    /// Points that did not converge (also flagged 0 in `converged`).
+    pub unconverged: Vec<UnconvergedRecord>,
+    /// Normalisation of the spin moment.
+    pub moment_scale: MomentScale,
+    /// Set for one part of a sharded build.
+    pub shard: Option<ShardRecord>,
+    /// Date, duration, threads.
+    pub build: BuildRecord,
+}
+
+/// The symmetry statements recorded in the sidecar.
+pub fn symmetry_notes(axes: &Axes) -> Vec<String> {
+    let mut v = vec![
+        "creepage_y mirrored (exact): (eta, phi) -> (-eta, -phi) gives (F_x, F_y, M_z) -> (F_x, -F_y, -M_z), \
+         temperature and fluid load unchanged"
+            .to_string(),
+    ];
+    if axes.0[0].mirrored {
+        v.push(
+            "creepage_x mirrored (exact dry, within about 5e-4 F_N wet): xi -> -xi gives \
+             (F_x, F_y, M_z) -> (-F_x, F_y, M_z), temperature and fluid load unchanged"
+                .to_string(),
+        );
+    }
+    v
+}
+
+/// Axes records of `axes`.
+pub fn axis_records(axes: &Axes) -> Vec<AxisRecord> {
+    axes.0
+        .iter()
+        .zip(DIMENSIONS.iter())
+        .map(|(a, d)| AxisRecord {
+            name: d.name.into(),
+            symbol: d.symbol.into(),
+            unit: d.unit.into(),
+            interpolation: d.interpolation,
+            mirrored: a.mirrored,
+            points: a.points.clone(),
+        })
+        .collect()
+}
+
+/// The axes of sidecar records, checked against the dimensions this build knows.
+fn axes_of(records: &[AxisRecord], path: &Path) -> Result<Axes> {
+    if records.len() != DIMS {
+        return Err(corrupt(
+            path,
+            format!("{} axes listed, expected {DIMS}", records.len()),
+        ));
+    }
+    let mut axes = Vec::with_capacity(DIMS);
+    for (r, d) in records.iter().zip(DIMENSIONS.iter()) {
+        if r.name != d.name || r.unit != d.unit || r.interpolation != d.interpolation {
+            return Err(corrupt(
+                path,
+                format!(
+                    "axis {} [{}] ({:?}) where {} [{}] ({:?}) is expected",
+                    r.name, r.unit, r.interpolation, d.name, d.unit, d.interpolation
+                ),
+            ));
+        }
+        axes.push(Axis {
+            points: r.points.clone(),
+            mirrored: r.mirrored,
+        });
+    }
+    let axes = Axes(axes.try_into().expect("six axes"));
+    axes.validate()
+        .map_err(|e| corrupt(path, format!("invalid axes: {e}")))?;
+    Ok(axes)
+}
+
+/// Error about a table directory.
+pub fn corrupt(path: &Path, reason: impl std::fmt::Display) -> Error {
+    Error::Table {
+        path: path.display().to_string(),
+        reason: reason.to_string(),
+    }
+}
+
+/// Lower-case hex SHA-256 of bytes.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// JSON text with object keys sorted at every level and no whitespace; numbers as serde_json prints them
+/// (shortest text that reads back to the same f64).
+fn canonical_json(v: &serde_json::Value, out: &mut String) {
+    match v {
+        serde_json::Value::Object(m) => {
+            let mut keys: Vec<&String> = m.keys().collect();
+            keys.sort();
+            out.push('{');
+            for (i, k) in keys.into_iter().enumerate() {
+                if i > 0 {
+                    out.push(',');
+                }
+                out.push_str(&serde_json::Value::String(k.clone()).to_string());
+                out.push(':');
+                canonical_json(&m[k], out);
+            }
+            out.push('}');
+        }
+        serde_json::Value::Array(a) => {
+            out.push('[');
+            for (i, x) in a.iter().enumerate() {
+                if i > 0 {
+                    out.push(',');
+                }
+                canonical_json(x, out);
+            }
+            out.push(']');
+        }
+        other => out.push_str(&other.to_string()),
+    }
+}
+
+/// Fingerprint of a parameter set: SHA-256 of its canonical JSON (sorted keys, no whitespace). Any change
+/// of any parameter — physics, grid or solver controls — changes it.
+pub fn fingerprint(params: &Params) -> String {
+    let v = serde_json::to_value(params).expect("parameters serialise");
+    let mut s = String::new();
+    canonical_json(&v, &mut s);
+    sha256_hex(s.as_bytes())
+}
+
+/// UTC date and time of a Unix time, ISO 8601 (days-to-civil after H. Hinnant, "chrono-compatible
+/// low-level date algorithms").
+pub fn iso8601(unix_seconds: u64) -> String {
+    let days = (unix_seconds / 86_400) as i64;
+    let secs = unix_seconds % 86_400;
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}Z",
+        secs / 3600,
+        secs % 3600 / 60,
+        secs % 60
+    )
+}
+
+/// Now, ISO 8601 UTC.
+pub fn now_iso8601() -> String {
+    let s = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0);
+    iso8601(s)
+}
+
+/// The contents of a table directory: sidecar and arrays (per output, flat; converged flags).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TableFiles {
+    /// The sidecar.
+    pub sidecar: Sidecar,
+    /// The axes (from the sidecar).
+    pub axes: Axes,
+    /// Per output: values in flat order (full table: C order; shard: the shard's points in index order).
+    pub outputs: Vec<Vec<f64>>,
+    /// Per point: 1 converged, 0 not.
+    pub converged: Vec<u8>,
+}
+
+/// `.npy` bytes of a flat array in the given shape.
+fn npy_bytes<T: ndarray_npy::WritableElement + Clone>(data: &[T], shape: &[usize]) -> Vec<u8> {
+    let a = ArrayD::from_shape_vec(IxDyn(shape), data.to_vec()).expect("shape matches the data");
+    let mut out = Vec::new();
+    a.write_npy(&mut out)
+        .expect("writing to memory cannot fail");
+    out
+}
+
+impl TableFiles {
+    /// Shape of every array: the axes' for a full table, (points,) for a shard.
+    pub fn array_shape(&self) -> Vec<usize> {
+        match self.sidecar.shard {
+            Some(_) => vec![self.converged.len()],
+            None => self.axes.shape().to_vec(),
+        }
+    }
+
+    /// Writes the arrays, then the sidecar (with their hashes), into `dir` (created if missing).
+    pub fn write(&mut self, dir: &Path) -> Result<()> {
+        let io = |p: &Path, e: std::io::Error| corrupt(p, format!("cannot write: {e}"));
+        std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+        let shape = self.array_shape();
+        let mut records = Vec::with_capacity(OUTPUTS);
+        for (info, data) in OUTPUT_INFO.iter().zip(&self.outputs) {
+            let bytes = npy_bytes(data, &shape);
+            let file = format!("{}.npy", info.name);
+            let path = dir.join(&file);
+            std::fs::write(&path, &bytes).map_err(|e| io(&path, e))?;
+            records.push(ArrayRecord {
+                name: info.name.into(),
+                unit: info.unit.into(),
+                description: info.description.into(),
+                file,
+                sha256: sha256_hex(&bytes),
+            });
+        }
+        let bytes = npy_bytes(&self.converged, &shape);
+        let path = dir.join(CONVERGED_FILE);
+        std::fs::write(&path, &bytes).map_err(|e| io(&path, e))?;
+        self.sidecar.outputs = records;
+        self.sidecar.converged = ArrayRecord {
+            name: "converged".into(),
+            unit: "-".into(),
+            description:
+                "1: the exact solution at this point converged; 0: it did not (see unconverged)"
+                    .into(),
+            file: CONVERGED_FILE.into(),
+            sha256: sha256_hex(&bytes),
+        };
+        let text = serde_json::to_string_pretty(&self.sidecar).expect("sidecar serialises") + "\n";
+        let path = dir.join(SIDECAR);
+        std::fs::write(&path, text).map_err(|e| io(&path, e))
+    }
+
+    /// Reads and verifies a table directory (full table or shard): format and model version, parameter
+    /// fingerprint, axes, outputs, each array's SHA-256, dtype and shape, finite values.
+    pub fn read(dir: &Path) -> Result<TableFiles> {
+        let side_path = dir.join(SIDECAR);
+        let text = std::fs::read_to_string(&side_path).map_err(|e| {
+            corrupt(
+                dir,
+                format!("cannot read the sidecar {SIDECAR}: {e} (is this a table directory?)"),
+            )
+        })?;
+        let sidecar: Sidecar = serde_json::from_str(&text)
+            .map_err(|e| corrupt(&side_path, format!("malformed sidecar: {e}")))?;
+        if sidecar.format != FORMAT {
+            return Err(corrupt(
+                &side_path,
+                format!("format is {:?}, expected {FORMAT:?}", sidecar.format),
+            ));
+        }
+        if sidecar.format_version != FORMAT_VERSION {
+            return Err(corrupt(
+                &side_path,
+                format!(
+                    "format version {} is not supported (this build reads version {FORMAT_VERSION})",
+                    sidecar.format_version
+                ),
+            ));
+        }
+        if sidecar.model_version != MODEL_VERSION {
+            return Err(corrupt(
+                &side_path,
+                format!(
+                    "built by model version {}, this is {MODEL_VERSION}: rebuild the table",
+                    sidecar.model_version
+                ),
+            ));
+        }
+        sidecar
+            .params
+            .validate()
+            .map_err(|e| corrupt(&side_path, format!("invalid parameter set: {e}")))?;
+        let fp = fingerprint(&sidecar.params);
+        if fp != sidecar.fingerprint {
+            return Err(corrupt(
+                &side_path,
+                format!(
+                    "parameter fingerprint mismatch: recorded {}, the recorded parameters give {fp}",
+                    sidecar.fingerprint
+                ),
+            ));
+        }
+        let axes = axes_of(&sidecar.axes, &side_path)?;
+        let names: Vec<&str> = sidecar.outputs.iter().map(|o| o.name.as_str()).collect();
+        let want: Vec<&str> = OUTPUT_INFO.iter().map(|o| o.name).collect();
+        if names != want {
+            return Err(corrupt(
+                &side_path,
+                format!("outputs {names:?}, expected {want:?}"),
+            ));
+        }
+        let shape = match sidecar.shard {
+            Some(s) => {
+                if s.count == 0 || s.index == 0 || s.index > s.count {
+                    return Err(corrupt(
+                        &side_path,
+                        format!("invalid shard {}/{}", s.index, s.count),
+                    ));
+                }
+                vec![shard_len(axes.len(), s)]
+            }
+            None => axes.shape().to_vec(),
+        };
+        let mut outputs = Vec::with_capacity(OUTPUTS);
+        for rec in &sidecar.outputs {
+            let a: ArrayD<f64> = read_array(dir, rec, &shape)?;
+            let v = a.into_raw_vec_and_offset().0;
+            if v.iter().any(|x| !x.is_finite()) {
+                return Err(corrupt(&dir.join(&rec.file), "non-finite values"));
+            }
+            outputs.push(v);
+        }
+        let converged = read_array::<u8>(dir, &sidecar.converged, &shape)?
+            .into_raw_vec_and_offset()
+            .0;
+        Ok(TableFiles {
+            sidecar,
+            axes,
+            outputs,
+            converged,
+        })
+    }
+}
+
+/// Number of points of shard `s` of a table with `total` points.
+pub fn shard_len(total: usize, s: ShardRecord) -> usize {
+    (total + s.count - s.index) / s.count
+}
+
+/// Reads one array file: the bytes must hash to the recorded SHA-256 and hold an array of `shape`.
+fn read_array<T: ndarray_npy::ReadableElement>(
+    dir: &Path,
+    rec: &ArrayRecord,
+    shape: &[usize],
+) -> Result<ArrayD<T>> {
+    if rec.file.contains(['/', '\\']) || rec.file.starts_with('.') {
+        return Err(corrupt(
+            dir,
+            format!("array file name {:?} not allowed", rec.file),
+        ));
+    }
+    let path: PathBuf = dir.join(&rec.file);
+    let bytes =
+        std::fs::read(&path).map_err(|e| corrupt(&path, format!("cannot read array: {e}")))?;
+    let sha = sha256_hex(&bytes);
+    if sha != rec.sha256 {
+        return Err(corrupt(
+            &path,
+            format!(
+                "SHA-256 mismatch (file {sha}, sidecar {}): the file is corrupt or was modified",
+                rec.sha256
+            ),
+        ));
+    }
+    let a = ArrayD::<T>::read_npy(&bytes[..]).map_err(|e| {
+        corrupt(
+            &path,
+            format!("not a valid .npy array of the expected type: {e}"),
+        )
+    })?;
+    if a.shape() != shape {
+        return Err(corrupt(
+            &path,
+            format!("shape {:?}, expected {shape:?}", a.shape()),
+        ));
+    }
+    Ok(a)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn iso8601_matches_known_dates() {
+        assert_eq!(iso8601(0), "1970-01-01T00:00:00Z");
+        assert_eq!(iso8601(951_782_400), "2000-02-29T00:00:00Z");
+        assert_eq!(iso8601(1_700_000_000), "2023-11-14T22:13:20Z");
+        assert_eq!(iso8601(4_107_542_399), "2100-02-28T23:59:59Z");
+    }
+
+    #[test]
+    fn sha256_of_known_input() {
+        // FIPS 180-2 example
+        assert_eq!(
+            sha256_hex(b"abc"),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
+    }
+
+    #[test]
+    fn canonical_json_sorts_keys_at_every_level() {
+        let v: serde_json::Value =
+            serde_json::from_str(r#"{"b": {"z": 1, "a": [2, {"y": 0.1, "x": null}]}, "a": true}"#)
+                .unwrap();
+        let mut s = String::new();
+        canonical_json(&v, &mut s);
+        assert_eq!(s, r#"{"a":true,"b":{"a":[2,{"x":null,"y":0.1}],"z":1}}"#);
+    }
+
+    #[test]
+    fn fingerprint_follows_every_parameter() {
+        let p = Params::default();
+        let f0 = fingerprint(&p);
+        assert_eq!(f0.len(), 64);
+        assert_eq!(f0, fingerprint(&p.clone()));
+        let mut q = p.clone();
+        q.roughness.k_r = 0.5000000001;
+        assert_ne!(fingerprint(&q), f0);
+        let mut q = p.clone();
+        q.grid.nx = 31;
+        assert_ne!(fingerprint(&q), f0);
+        let mut q = p;
+        q.solver.heat = false;
+        assert_ne!(fingerprint(&q), f0);
+    }
+
+    #[test]
+    fn parameters_round_trip_through_the_sidecar_json_bit_for_bit() {
+        // the fingerprint of the parameters read back must equal the recorded one: every f64 must survive
+        // JSON exactly, also with 17 significant digits
+        let mut p = Params::default();
+        p.roughness.k_r = 1.0 / 3.0;
+        p.fluid.h_bl = 0.1e-6 * (1.0 + f64::EPSILON);
+        p.material.conductivity = 0.1 + 0.2;
+        p.fluid.flow_resistance = 1.2345678901234567e-3;
+        let text = serde_json::to_string(&p).unwrap();
+        let back: Params = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, p);
+        assert_eq!(fingerprint(&back), fingerprint(&p));
+    }
+
+    #[test]
+    fn moment_scale_follows_hertz_cube_root() {
+        let p = Params::default();
+        let s = MomentScale::of(&p, 10e3).unwrap();
+        for f in [10e3, 47e3, 200e3] {
+            let h = crate::solver::normal_contact(&p, f).unwrap();
+            let c = (h.a * h.b).sqrt();
+            assert!((s.radius(f) / c - 1.0).abs() < 1e-9, "{f}");
+        }
+        let mut q = Params::default();
+        q.geometry.semi_axes = Some([6e-3, 9e-3]);
+        let s = MomentScale::of(&q, 10e3).unwrap();
+        assert_eq!(s.exponent, 0.0);
+        assert!((s.radius(150e3) - (54e-6f64).sqrt()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn shard_lengths_partition_the_points() {
+        for total in [1, 7, 12, 100] {
+            for count in 1..6 {
+                let sum: usize = (1..=count)
+                    .map(|index| shard_len(total, ShardRecord { index, count }))
+                    .sum();
+                assert_eq!(sum, total);
+                for index in 1..=count {
+                    let want = (0..total).filter(|i| i % count == index - 1).count();
+                    assert_eq!(shard_len(total, ShardRecord { index, count }), want);
+                }
+            }
+        }
+    }
+}

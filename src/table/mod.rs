@@ -1,0 +1,758 @@
+//! Tabulation mode (issue 5): the exact model precomputed on a grid of operating points for one parameter
+//! set, stored as `.npy` arrays with a JSON sidecar, and interpolated at run time.
+//!
+//! - Axes (see [`axes`]): ξ, η, φ (cubic Hermite, non-uniform sinh spacing dense near 0), F_N, V (linear,
+//!   log spacing), w (linear). η ≥ 0 only, by the model's exact y-mirror symmetry; ξ ≥ 0 only by default, by
+//!   the ξ mirror, exact dry and within about 5e-4·F_N wet.
+//! - Stored outputs (see [`file::OUTPUT_INFO`]): F_x/F_N, F_y/F_N, M_z/(F_N·c) with c = sqrt(a·b) of Hertz,
+//!   T_max, fluid load fraction, and a converged flag per point. The traction coefficient is |F_T|/F_N of
+//!   the interpolated forces (the solver's definition, P2).
+//! - [`Table::evaluate`]: ≈ 0.5 µs, no allocation; [`Table::evaluate_with_jacobian`] adds the exact
+//!   derivatives of the interpolant for FMU directional derivatives.
+//! - [`Table::load_shared`]: one copy per file and process, shared read-only by all FMU instances.
+
+pub mod axes;
+pub mod build;
+pub mod file;
+pub mod interp;
+pub mod verify;
+
+pub use axes::{Axes, AxesSpec, Axis, AxisSpec, DIMENSIONS, DIMS, Interpolation, Spacing};
+pub use build::{build, merge};
+pub use file::{MomentScale, OUTPUT_INFO, OUTPUTS, ShardRecord, Sidecar, TableFiles, fingerprint};
+
+use crate::error::{Error, Result};
+use crate::params::{OperatingPoint, Params};
+use axes::{ETA, FORCE, PHI, XI};
+use interp::{AxisInterp, LinearStencil};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, OnceLock, Weak};
+
+/// Results of one table evaluation (SI units, kelvin; Kalker's sign convention as the exact solver).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TableOutput {
+    /// F_x [N].
+    pub force_x: f64,
+    /// F_y [N].
+    pub force_y: f64,
+    /// M_z [N·m].
+    pub spin_moment: f64,
+    /// |F_T|/F_N [-].
+    pub traction_coefficient: f64,
+    /// Highest surface temperature [K] (not below the bulk temperature).
+    pub max_temperature: f64,
+    /// Share of the normal force carried by the fluid [-] (clamped to [0, 1]).
+    pub fluid_load_fraction: f64,
+    /// Whether the point lies inside every axis range; outside, each coordinate is clamped to its range
+    /// (the normalised outputs are held at the boundary; forces still scale with the actual F_N).
+    pub in_range: bool,
+    /// Whether every table point used by the interpolation converged when the table was built.
+    pub converged: bool,
+}
+
+/// Derivatives of the interpolant: rows in the order of [`TableOutput`]'s values (F_x [N], F_y [N],
+/// M_z [N·m], traction coefficient, T_max [K], fluid load fraction), columns ∂/∂(ξ, η, φ, F_N, V, w) in the
+/// inputs' SI units. Zero along clamped (out-of-range) inputs and where an output is clamped.
+pub type Jacobian = [[f64; DIMS]; JACOBIAN_ROWS];
+
+/// Rows of a [`Jacobian`].
+pub const JACOBIAN_ROWS: usize = 6;
+
+/// Interpolated normalised outputs and their derivatives with respect to the (mirrored, clamped)
+/// coordinates.
+struct Core {
+    v: [f64; OUTPUTS],
+    d: [[f64; DIMS]; OUTPUTS],
+    converged: bool,
+}
+
+/// A loaded table, read-only.
+pub struct Table {
+    sidecar: Sidecar,
+    axes: Axes,
+    interp: [AxisInterp; DIMS],
+    /// Row strides of the dimensions in `rows`.
+    strides: [usize; DIMS],
+    /// All outputs of each point, in C order over the axes.
+    rows: Vec<[f64; OUTPUTS]>,
+    converged: Vec<u8>,
+    all_converged: bool,
+    bulk_temperature: f64,
+    path: Option<PathBuf>,
+}
+
+impl std::fmt::Debug for Table {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Table")
+            .field("path", &self.path)
+            .field("shape", &self.axes.shape())
+            .field("fingerprint", &self.sidecar.fingerprint)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Table {
+    /// A table from verified files (a complete table, not a shard).
+    pub fn from_files(files: TableFiles, path: Option<&Path>) -> Result<Table> {
+        let where_ = path.unwrap_or(Path::new("<memory>"));
+        if let Some(s) = files.sidecar.shard {
+            return Err(file::corrupt(
+                where_,
+                format!(
+                    "is shard {}/{} of a table; join the shards with `wheelrail table merge`",
+                    s.index, s.count
+                ),
+            ));
+        }
+        let axes = files.axes;
+        let shape = axes.shape();
+        let n = axes.len();
+        if files.outputs.len() != OUTPUTS
+            || files.outputs.iter().any(|o| o.len() != n)
+            || files.converged.len() != n
+        {
+            return Err(file::corrupt(where_, "array sizes do not match the axes"));
+        }
+        let rows = (0..n)
+            .map(|i| std::array::from_fn(|o| files.outputs[o][i]))
+            .collect();
+        let mut strides = [1usize; DIMS];
+        for d in (0..DIMS - 1).rev() {
+            strides[d] = strides[d + 1] * shape[d + 1];
+        }
+        let interp =
+            std::array::from_fn(|d| AxisInterp::new(&axes.0[d], DIMENSIONS[d].interpolation));
+        Ok(Table {
+            bulk_temperature: files.sidecar.params.material.bulk_temperature,
+            all_converged: files.converged.iter().all(|c| *c == 1),
+            converged: files.converged,
+            sidecar: files.sidecar,
+            axes,
+            interp,
+            strides,
+            rows,
+            path: path.map(Path::to_path_buf),
+        })
+    }
+
+    /// Loads and verifies the table in directory `dir` (see [`file`] for what is checked).
+    pub fn load(dir: &Path) -> Result<Table> {
+        Table::from_files(TableFiles::read(dir)?, Some(dir))
+    }
+
+    /// The table in `dir`, loaded at most once per process while any user holds it: later calls for the
+    /// same directory (by canonical path) share the same read-only copy.
+    pub fn load_shared(dir: &Path) -> Result<Arc<Table>> {
+        static CACHE: OnceLock<Mutex<HashMap<PathBuf, Weak<Table>>>> = OnceLock::new();
+        let key = dir
+            .canonicalize()
+            .map_err(|e| file::corrupt(dir, format!("cannot open the table directory: {e}")))?;
+        let mut cache = CACHE
+            .get_or_init(Default::default)
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        if let Some(t) = cache.get(&key).and_then(Weak::upgrade) {
+            return Ok(t);
+        }
+        let t = Arc::new(Table::load(&key)?);
+        cache.retain(|_, w| w.strong_count() > 0);
+        cache.insert(key, Arc::downgrade(&t));
+        Ok(t)
+    }
+
+    /// The sidecar (parameters, axes, build record, …).
+    pub fn sidecar(&self) -> &Sidecar {
+        &self.sidecar
+    }
+
+    /// The axes.
+    pub fn axes(&self) -> &Axes {
+        &self.axes
+    }
+
+    /// The parameter set the table was built for.
+    pub fn params(&self) -> &Params {
+        &self.sidecar.params
+    }
+
+    /// Where the table was loaded from.
+    pub fn path(&self) -> Option<&Path> {
+        self.path.as_deref()
+    }
+
+    /// Whether the table was built for exactly this parameter set (equivalently: the same fingerprint, since
+    /// every value survives the sidecar's JSON bit for bit). Cheap enough to call per evaluation.
+    pub fn matches(&self, params: &Params) -> bool {
+        self.sidecar.params == *params
+    }
+
+    /// Whether the operating point lies inside every axis range.
+    pub fn in_range(&self, p: &OperatingPoint) -> bool {
+        coordinates(p)
+            .iter()
+            .zip(&self.axes.0)
+            .all(|(x, a)| *x >= a.min() && *x <= a.max())
+    }
+
+    /// Evaluates one operating point by interpolation (no allocation). Invalid input (NaN, non-positive
+    /// load or speed, …) is an error; a valid point outside the ranges is clamped (`in_range` false).
+    pub fn evaluate(&self, point: &OperatingPoint) -> Result<TableOutput> {
+        self.eval::<false>(point).map(|(o, _)| o)
+    }
+
+    /// [`Table::evaluate`] plus the Jacobian of the interpolant.
+    pub fn evaluate_with_jacobian(
+        &self,
+        point: &OperatingPoint,
+    ) -> Result<(TableOutput, Jacobian)> {
+        self.eval::<true>(point)
+    }
+
+    #[inline(always)]
+    fn eval<const JAC: bool>(&self, point: &OperatingPoint) -> Result<(TableOutput, Jacobian)> {
+        point.validate()?;
+        let mut q = coordinates(point);
+        // bring the point into the stored quadrant ξ ≥ 0 (if mirrored), η ≥ 0
+        let mx = q[XI] < 0.0 && self.axes.0[XI].mirrored;
+        let my = q[ETA] < 0.0;
+        if mx {
+            q[XI] = -q[XI];
+        }
+        if my {
+            q[ETA] = -q[ETA];
+            q[PHI] = -q[PHI];
+        }
+        let mut inside = [true; DIMS];
+        for d in 0..DIMS {
+            (q[d], inside[d]) = self.interp[d].clamp(q[d]);
+        }
+        let core = self.core::<JAC>(&q);
+        // undo the mirrors: output signs S and input signs D (J = S·J'·D)
+        let sx = if mx { -1.0 } else { 1.0 };
+        let sy = if my { -1.0 } else { 1.0 };
+        let out_sign = [sx, sy, sy, 1.0, 1.0];
+        let in_sign = [sx, sy, sy, 1.0, 1.0, 1.0];
+        let g: [f64; OUTPUTS] = std::array::from_fn(|o| out_sign[o] * core.v[o]);
+        let f = point.normal_force;
+        let scale = &self.sidecar.moment_scale;
+        let c = scale.radius(f);
+        let out = TableOutput {
+            force_x: f * g[0],
+            force_y: f * g[1],
+            spin_moment: f * c * g[2],
+            traction_coefficient: g[0].hypot(g[1]),
+            max_temperature: core.v[3].max(self.bulk_temperature),
+            fluid_load_fraction: core.v[4].clamp(0.0, 1.0),
+            in_range: inside.iter().all(|x| *x),
+            converged: core.converged,
+        };
+        let mut jac = [[0.0; DIMS]; JACOBIAN_ROWS];
+        if JAC {
+            // derivatives of the normalised outputs g in the caller's frame
+            let mut dg = [[0.0; DIMS]; OUTPUTS];
+            for o in 0..OUTPUTS {
+                for d in 0..DIMS {
+                    if inside[d] {
+                        dg[o][d] = out_sign[o] * core.d[o][d] * in_sign[d];
+                    }
+                }
+            }
+            let f_t = out.traction_coefficient;
+            let t_free = core.v[3] > self.bulk_temperature;
+            let l_free = core.v[4] > 0.0 && core.v[4] < 1.0;
+            for d in 0..DIMS {
+                jac[0][d] = f * dg[0][d];
+                jac[1][d] = f * dg[1][d];
+                jac[2][d] = f * c * dg[2][d];
+                if f_t > 0.0 {
+                    jac[3][d] = (g[0] * dg[0][d] + g[1] * dg[1][d]) / f_t;
+                }
+                jac[4][d] = if t_free { dg[3][d] } else { 0.0 };
+                jac[5][d] = if l_free { dg[4][d] } else { 0.0 };
+            }
+            // the normalisation's own F_N dependence: F = F_N·g, M = F_N·c(F_N)·g, c ∝ F_N^e
+            jac[0][FORCE] += g[0];
+            jac[1][FORCE] += g[1];
+            jac[2][FORCE] += c * g[2] * (1.0 + scale.exponent);
+        }
+        Ok((out, jac))
+    }
+
+    /// Tensor-product interpolation at stored-quadrant coordinates `q` (inside the ranges): the 2×2×2
+    /// linear corners over (F_N, V, w) are contracted first at each of the 4×4×4 cubic window nodes over
+    /// (ξ, η, φ), then the monotone splines along φ, η and ξ in turn, each fibre carrying its derivatives
+    /// forward (the fibre weights are the partial derivatives, see `interp`). Ghost nodes of mirrored axes
+    /// read the mirror-image point (φ index reversed by the η mirror) with the symmetry's output signs.
+    #[inline(always)]
+    fn core<const JAC: bool>(&self, q: &[f64; DIMS]) -> Core {
+        let cx = self.interp[XI].cubic(q[XI]);
+        let cy = self.interp[ETA].cubic(q[ETA]);
+        let cp = self.interp[PHI].cubic(q[PHI]);
+        let lin: [LinearStencil; 3] =
+            std::array::from_fn(|k| self.interp[FORCE + k].linear(q[FORCE + k]));
+        let [s0, s1, s2, s3, s4, s5] = self.strides;
+        let n_phi = self.axes.0[PHI].points.len() as isize;
+        // the eight linear corners: row offsets, weights and weight derivatives
+        let mut off = [0usize; 8];
+        let mut wl = [0.0; 8];
+        let mut dl = [[0.0; 8]; 3];
+        for c in 0..8 {
+            let (l, m, n) = (c >> 2, (c >> 1) & 1, c & 1);
+            off[c] = (lin[0].start + l) * s3 + (lin[1].start + m) * s4 + (lin[2].start + n) * s5;
+            let (a, b, e) = (lin[0].w[l], lin[1].w[m], lin[2].w[n]);
+            wl[c] = a * b * e;
+            if JAC {
+                dl[0][c] = lin[0].dw[l] * b * e;
+                dl[1][c] = a * lin[1].dw[m] * e;
+                dl[2][c] = a * b * lin[2].dw[n];
+            }
+        }
+        // stage 0: values [i][j][k][o] and (F_N, V, w)-derivatives [i][j][k][o][a] at the window nodes
+        let mut c0 = [[[[0.0; OUTPUTS]; 4]; 4]; 4];
+        let mut t0 = [[[[[0.0; 3]; OUTPUTS]; 4]; 4]; 4];
+        let mut converged = true;
+        for i in 0..4 {
+            let gi = cx.start + i as isize;
+            let (ii, fx) = (gi.unsigned_abs(), gi < 0);
+            for j in 0..4 {
+                let gj = cy.start + j as isize;
+                let (jj, fy) = (gj.unsigned_abs(), gj < 0);
+                // symmetry signs of ghost nodes: ξ-mirror flips F_x, η-mirror flips F_y and M_z
+                let sign = [
+                    if fx { -1.0 } else { 1.0 },
+                    if fy { -1.0 } else { 1.0 },
+                    if fy { -1.0 } else { 1.0 },
+                ];
+                for k in 0..4 {
+                    let gk = cp.start + k as isize;
+                    let kk = if fy { n_phi - 1 - gk } else { gk } as usize;
+                    let base = ii * s0 + jj * s1 + kk * s2;
+                    let inner = &mut c0[i][j][k];
+                    let inner_d = &mut t0[i][j][k];
+                    for c in 0..8 {
+                        let row = &self.rows[base + off[c]];
+                        for o in 0..OUTPUTS {
+                            inner[o] += wl[c] * row[o];
+                        }
+                        if JAC {
+                            for o in 0..OUTPUTS {
+                                for a in 0..3 {
+                                    inner_d[o][a] += dl[a][c] * row[o];
+                                }
+                            }
+                        }
+                    }
+                    for o in 0..3 {
+                        inner[o] *= sign[o];
+                        if JAC {
+                            for d in inner_d[o].iter_mut() {
+                                *d *= sign[o];
+                            }
+                        }
+                    }
+                    if !self.all_converged {
+                        converged &= off.iter().all(|o| self.converged[base + o] == 1);
+                    }
+                }
+            }
+        }
+        // stage 1: along φ; derivatives (F_N, V, w, φ)
+        let mut c1 = [[[0.0; OUTPUTS]; 4]; 4];
+        let mut t1 = [[[[0.0; 4]; OUTPUTS]; 4]; 4];
+        for i in 0..4 {
+            for j in 0..4 {
+                for o in 0..OUTPUTS {
+                    let f = cp.eval(&std::array::from_fn(|k| c0[i][j][k][o]));
+                    c1[i][j][o] = f.v;
+                    if JAC {
+                        for a in 0..3 {
+                            t1[i][j][o][a] = (0..4).map(|k| f.w[k] * t0[i][j][k][o][a]).sum();
+                        }
+                        t1[i][j][o][3] = f.dv;
+                    }
+                }
+            }
+        }
+        // stage 2: along η; derivatives (F_N, V, w, φ, η)
+        let mut c2 = [[0.0; OUTPUTS]; 4];
+        let mut t2 = [[[0.0; 5]; OUTPUTS]; 4];
+        for i in 0..4 {
+            for o in 0..OUTPUTS {
+                let f = cy.eval(&std::array::from_fn(|j| c1[i][j][o]));
+                c2[i][o] = f.v;
+                if JAC {
+                    for a in 0..4 {
+                        t2[i][o][a] = (0..4).map(|j| f.w[j] * t1[i][j][o][a]).sum();
+                    }
+                    t2[i][o][4] = f.dv;
+                }
+            }
+        }
+        // stage 3: along ξ
+        let mut v = [0.0; OUTPUTS];
+        let mut d = [[0.0; DIMS]; OUTPUTS];
+        for o in 0..OUTPUTS {
+            let f = cx.eval(&std::array::from_fn(|i| c2[i][o]));
+            v[o] = f.v;
+            if JAC {
+                let t: [f64; 5] =
+                    std::array::from_fn(|a| (0..4).map(|i| f.w[i] * t2[i][o][a]).sum());
+                d[o] = [f.dv, t[4], t[3], t[0], t[1], t[2]];
+            }
+        }
+        Core { v, d, converged }
+    }
+}
+
+/// (ξ, η, φ, F_N, V, w) of an operating point.
+pub fn coordinates(p: &OperatingPoint) -> [f64; DIMS] {
+    [
+        p.creepage_x,
+        p.creepage_y,
+        p.spin,
+        p.normal_force,
+        p.speed,
+        p.wetness,
+    ]
+}
+
+/// A table in memory from node values `f(coordinates) -> outputs` (for tests and synthetic tables).
+#[cfg(test)]
+pub(crate) fn synthetic(
+    axes: &Axes,
+    params: &Params,
+    f: &dyn Fn(&[f64; DIMS]) -> [f64; OUTPUTS],
+) -> Table {
+    let n = axes.len();
+    let mut outputs: Vec<Vec<f64>> = (0..OUTPUTS).map(|_| Vec::with_capacity(n)).collect();
+    for i in 0..n {
+        for (o, v) in outputs.iter_mut().zip(f(&axes.coordinates(i))) {
+            o.push(v);
+        }
+    }
+    let mut files = build::build(params, &tiny_axes(), None, &|| ()).expect("tiny build");
+    files.axes = axes.clone();
+    files.sidecar.axes = file::axis_records(axes);
+    files.sidecar.moment_scale = MomentScale::of(params, axes.0[FORCE].points[0]).unwrap();
+    files.outputs = outputs;
+    files.converged = vec![1; n];
+    Table::from_files(files, None).unwrap()
+}
+
+/// The smallest valid axes (3·3·4·2·2·2 = 288 points).
+#[cfg(test)]
+pub(crate) fn tiny_axes() -> Axes {
+    let pts = |p: &[f64]| {
+        Some(AxisSpec {
+            points: Some(p.to_vec()),
+            ..Default::default()
+        })
+    };
+    Axes::from_spec(&AxesSpec {
+        creepage_x: Some(AxisSpec {
+            points: Some(vec![0.0, 0.005, 0.05]),
+            mirrored: Some(true),
+            ..Default::default()
+        }),
+        creepage_y: pts(&[0.0, 0.003, 0.02]),
+        spin: pts(&[-1.0, -0.2, 0.2, 1.0]),
+        normal_force: pts(&[50e3, 100e3]),
+        speed: pts(&[10.0, 30.0]),
+        wetness: pts(&[0.0, 1.0]),
+    })
+    .unwrap()
+}
+
+/// Error for an operating point the table cannot evaluate (kept for callers that want a typed reason).
+pub fn not_matching(table: &Table, params: &Params) -> Option<Error> {
+    (!table.matches(params)).then(|| Error::Table {
+        path: table
+            .path()
+            .map_or("<memory>".into(), |p| p.display().to_string()),
+        reason: format!(
+            "was built for other parameters (fingerprint {}, these give {})",
+            table.sidecar.fingerprint,
+            file::fingerprint(params)
+        ),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::FrictionLaw;
+
+    fn polach() -> Params {
+        let mut p = Params::default();
+        p.friction.law = FrictionLaw::Polach;
+        p
+    }
+
+    /// A function with the model's symmetries, linear in each coordinate: the interpolant reproduces it
+    /// exactly. Monomials x^a·y^b·φ^c: the ξ mirror multiplies them by (−1)^a, the (η, φ) mirror by
+    /// (−1)^(b+c). F_x: odd, even; F_y and M_z: even, odd; T: even, even.
+    fn symmetric_multilinear(c: &[f64; DIMS]) -> [f64; OUTPUTS] {
+        let [x, y, p, f, v, w] = *c;
+        let lin = (1.0 + 2e-6 * f) * (1.0 - 0.003 * v) * (1.0 + 0.5 * w);
+        [
+            lin * (-3.0 * x + 40.0 * x * y * p),
+            lin * (-2.0 * y + 0.01 * p),
+            lin * (0.02 * p - 0.7 * y),
+            300.0 + 50.0 * lin * (1.0 + 4.0 * y * p),
+            0.3 * w * (1.0 - 0.002 * v),
+        ]
+    }
+
+    /// A smooth function with the symmetries and creep-curve-like saturation (not reproduced exactly).
+    fn symmetric_saturating(c: &[f64; DIMS]) -> [f64; OUTPUTS] {
+        let [x, y, p, f, v, w] = *c;
+        let lin = (1.0 + 2e-6 * f) * (1.0 - 0.003 * v) * (1.0 + 0.5 * w);
+        let sat = |u: f64| (u / 0.004).tanh();
+        [
+            -lin * sat(x) * (1.0 + 0.3 * y * p),
+            -lin * (sat(y) + 0.002 * p),
+            lin * (0.02 * p - sat(y) * (1.0 + x * x)),
+            300.0 + 50.0 * lin * (x * x + y * p),
+            0.3 * w * (1.0 - 0.002 * v),
+        ]
+    }
+
+    fn random_coordinates(rng: &mut verify::SplitMix64) -> [f64; DIMS] {
+        let mut u = || rng.uniform();
+        [
+            -0.05 + 0.1 * u(),
+            -0.02 + 0.04 * u(),
+            -1.0 + 2.0 * u(),
+            50e3 + 50e3 * u(),
+            10.0 + 20.0 * u(),
+            u(),
+        ]
+    }
+
+    #[test]
+    fn interpolant_reproduces_symmetric_multilinear_functions_and_their_derivatives() {
+        let params = polach();
+        let t = synthetic(&tiny_axes(), &params, &symmetric_multilinear);
+        let scale = t.sidecar.moment_scale;
+        let mut rng = verify::SplitMix64::new(7);
+        for _ in 0..500 {
+            let c = random_coordinates(&mut rng);
+            let pt = build::operating_point(&c);
+            let (o, j) = t.evaluate_with_jacobian(&pt).unwrap();
+            let want = symmetric_multilinear(&c);
+            let f = c[3];
+            let r = scale.radius(f);
+            assert!(o.in_range && o.converged);
+            assert!((o.force_x / f - want[0]).abs() < 1e-12, "{c:?}");
+            assert!((o.force_y / f - want[1]).abs() < 1e-12, "{c:?}");
+            assert!((o.spin_moment / (f * r) - want[2]).abs() < 1e-12, "{c:?}");
+            assert!((o.max_temperature - want[3]).abs() < 1e-9, "{c:?}");
+            assert!((o.fluid_load_fraction - want[4]).abs() < 1e-12);
+            assert!((o.traction_coefficient - want[0].hypot(want[1])).abs() < 1e-12);
+            // Jacobian against central differences of the exact function
+            for d in 0..DIMS {
+                let h = [1e-7, 1e-7, 1e-5, 1.0, 1e-4, 1e-6][d];
+                let (mut cp, mut cm) = (c, c);
+                cp[d] += h;
+                cm[d] -= h;
+                let (fp, fm) = (symmetric_multilinear(&cp), symmetric_multilinear(&cm));
+                let phys = |c: &[f64; DIMS], v: &[f64; OUTPUTS]| {
+                    [
+                        c[3] * v[0],
+                        c[3] * v[1],
+                        c[3] * scale.radius(c[3]) * v[2],
+                        v[0].hypot(v[1]),
+                        v[3],
+                        v[4],
+                    ]
+                };
+                let (pp, pm) = (phys(&cp, &fp), phys(&cm, &fm));
+                for o in 0..JACOBIAN_ROWS {
+                    let fd = (pp[o] - pm[o]) / (2.0 * h);
+                    let tol = 1e-6 * (fd.abs() + [f, f, f * r, 1.0, 300.0, 1.0][o] * 1e-3);
+                    assert!(
+                        (j[o][d] - fd).abs() < tol.max(1e-9),
+                        "∂{o}/∂{d} at {c:?}: {} vs {fd}",
+                        j[o][d]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn jacobian_is_the_derivative_of_the_interpolant() {
+        let params = polach();
+        let mut axes = tiny_axes();
+        axes.0[XI].points = vec![0.0, 0.001, 0.003, 0.01, 0.03, 0.05];
+        let t = synthetic(&axes, &params, &symmetric_saturating);
+        let mut rng = verify::SplitMix64::new(11);
+        for _ in 0..300 {
+            let c = random_coordinates(&mut rng);
+            let (_, j) = t
+                .evaluate_with_jacobian(&build::operating_point(&c))
+                .unwrap();
+            for d in 0..DIMS {
+                let h = [1e-8, 1e-8, 1e-6, 0.1, 1e-5, 1e-7][d];
+                let (mut cp, mut cm) = (c, c);
+                cp[d] += h;
+                cm[d] -= h;
+                let (p, m) = (
+                    t.evaluate(&build::operating_point(&cp)).unwrap(),
+                    t.evaluate(&build::operating_point(&cm)).unwrap(),
+                );
+                let fd = [
+                    (p.force_x - m.force_x) / (2.0 * h),
+                    (p.force_y - m.force_y) / (2.0 * h),
+                    (p.spin_moment - m.spin_moment) / (2.0 * h),
+                    (p.traction_coefficient - m.traction_coefficient) / (2.0 * h),
+                    (p.max_temperature - m.max_temperature) / (2.0 * h),
+                    (p.fluid_load_fraction - m.fluid_load_fraction) / (2.0 * h),
+                ];
+                for o in 0..JACOBIAN_ROWS {
+                    let scale = [c[3], c[3], c[3] * 0.01, 1.0, 50.0, 0.3][o]
+                        / [0.05, 0.02, 1.0, 1e5, 20.0, 1.0][d];
+                    assert!(
+                        (j[o][d] - fd[o]).abs() < 1e-5 * scale.max(fd[o].abs()),
+                        "∂{o}/∂{d} at {c:?}: {} vs {}",
+                        j[o][d],
+                        fd[o]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn mirrored_points_obey_the_symmetries() {
+        // node values of a non-symmetric function: the table still returns mirror images for η < 0, ξ < 0
+        let params = polach();
+        let t = synthetic(&tiny_axes(), &params, &|c| {
+            [
+                c[0] + c[1] + c[2],
+                c[1] * 2.0 + c[2],
+                c[2] + c[0],
+                300.0 + c[0],
+                0.1,
+            ]
+        });
+        let pt = OperatingPoint {
+            creepage_x: 0.01,
+            creepage_y: 0.004,
+            spin: 0.3,
+            normal_force: 70e3,
+            speed: 20.0,
+            wetness: 0.5,
+        };
+        let a = t.evaluate(&pt).unwrap();
+        let b = t
+            .evaluate(&OperatingPoint {
+                creepage_y: -0.004,
+                spin: -0.3,
+                ..pt
+            })
+            .unwrap();
+        assert_eq!(
+            (b.force_x, b.force_y, b.spin_moment),
+            (a.force_x, -a.force_y, -a.spin_moment)
+        );
+        assert_eq!(b.max_temperature, a.max_temperature);
+        let c = t
+            .evaluate(&OperatingPoint {
+                creepage_x: -0.01,
+                ..pt
+            })
+            .unwrap();
+        assert_eq!(
+            (c.force_x, c.force_y, c.spin_moment),
+            (-a.force_x, a.force_y, a.spin_moment)
+        );
+    }
+
+    #[test]
+    fn out_of_range_is_clamped_and_flagged_bad_input_is_an_error() {
+        let t = synthetic(&tiny_axes(), &polach(), &symmetric_multilinear);
+        let pt = OperatingPoint {
+            creepage_x: 0.02,
+            creepage_y: 0.001,
+            spin: 0.1,
+            normal_force: 100e3,
+            speed: 30.0,
+            wetness: 1.0,
+        };
+        let inside = t.evaluate(&pt).unwrap();
+        assert!(inside.in_range && t.in_range(&pt));
+        let fast = OperatingPoint { speed: 60.0, ..pt };
+        let (o, j) = t.evaluate_with_jacobian(&fast).unwrap();
+        assert!(!o.in_range && !t.in_range(&fast));
+        assert_eq!(o.force_x, inside.force_x);
+        assert_eq!(j[0][4], 0.0);
+        // above the load range the normalised values are held, the force scales with F_N
+        let heavy = OperatingPoint {
+            normal_force: 200e3,
+            ..pt
+        };
+        let h = t.evaluate(&heavy).unwrap();
+        assert!((h.force_x / 200e3 - inside.force_x / 100e3).abs() < 1e-15);
+        assert!(
+            t.evaluate(&OperatingPoint {
+                creepage_x: f64::NAN,
+                ..pt
+            })
+            .is_err()
+        );
+        assert!(
+            t.evaluate(&OperatingPoint {
+                normal_force: -1.0,
+                ..pt
+            })
+            .is_err()
+        );
+    }
+
+    #[test]
+    fn unconverged_nodes_taint_only_nearby_evaluations() {
+        let mut axes = tiny_axes();
+        axes.0[XI].points = vec![0.0, 0.001, 0.003, 0.01, 0.03, 0.05];
+        let params = polach();
+        let mut t = synthetic(&axes, &params, &symmetric_multilinear);
+        // flag the node at the largest ξ, η, φ, F_N, V, w
+        let last = axes.len() - 1;
+        t.converged[last] = 0;
+        t.all_converged = false;
+        let near = OperatingPoint {
+            creepage_x: 0.04,
+            creepage_y: 0.015,
+            spin: 0.9,
+            normal_force: 90e3,
+            speed: 25.0,
+            wetness: 0.9,
+        };
+        assert!(!t.evaluate(&near).unwrap().converged);
+        // the cubic stencil at ξ = 0.002 spans the points −0.001 (ghost) … 0.003
+        let far = OperatingPoint {
+            creepage_x: 0.002,
+            ..near
+        };
+        assert!(t.evaluate(&far).unwrap().converged);
+    }
+
+    #[test]
+    fn shared_loading_returns_one_copy_per_directory() {
+        let dir =
+            std::env::temp_dir().join(format!("wheelrail-table-shared-{}", std::process::id()));
+        let mut files = build::build(&polach(), &tiny_axes(), None, &|| ()).unwrap();
+        files.write(&dir).unwrap();
+        let a = Table::load_shared(&dir).unwrap();
+        let b = Table::load_shared(&dir.join(".")).unwrap();
+        assert!(Arc::ptr_eq(&a, &b));
+        assert!(a.matches(&polach()) && !a.matches(&Params::default()));
+        assert!(not_matching(&a, &Params::default()).is_some());
+        drop((a, b));
+        // released when the last user drops it, loaded again afterwards
+        let c = Table::load_shared(&dir).unwrap();
+        assert_eq!(c.axes(), &tiny_axes());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,492 @@
+//! Tabulation mode (issue 5): the symmetries the table relies on, deterministic and sharded builds, the
+//! file checks, verification against the exact solver, and evaluation by table on the command line.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use wheelrail::table::Table;
+use wheelrail::{OperatingPoint, Params, solve};
+
+fn wheelrail(args: &[&str], threads: Option<&str>) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_wheelrail"));
+    c.args(args);
+    if let Some(t) = threads {
+        c.env("RAYON_NUM_THREADS", t);
+    }
+    c.output().expect("run wheelrail")
+}
+
+fn ok(o: &Output) -> String {
+    assert!(
+        o.status.success(),
+        "exit {:?}: {}",
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8(o.stdout.clone()).unwrap()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("wheelrail-table-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let p = d.join(name);
+    let _ = std::fs::remove_dir_all(&p);
+    p
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// A coarse grid keeps the exact solves cheap; every other parameter is the default.
+const SMALL_GRID: &str = "[grid]\nnx = 8\nny = 8\n";
+
+/// Small axes around the Table 1 point, both dry and wet.
+const SMALL_AXES: &str = r#"
+[creepage_x]
+points = [0.0, 0.001, 0.003, 0.008]
+mirrored = true
+[creepage_y]
+points = [0.0, 0.001, 0.003]
+[spin]
+points = [-0.2, -0.05, 0.05, 0.2]
+[normal_force]
+points = [80e3, 120e3]
+[speed]
+points = [20.0, 40.0]
+[wetness]
+points = [0.0, 0.3]
+"#;
+
+/// Axes that resolve the wet creep curves: they saturate near 0.05 % creepage (spin: c·φ with c ≈ 8 mm), so
+/// the points are dense there. Wet only: friction falls from dry to boundary lubrication within w < 0.02
+/// (h_f0 = w·20 µm against h_bl = 0.1 µm), far too steeply for two points; above w = 0.3 it is nearly flat.
+/// The wet forces and the fluid load depend strongly on V and F_N: narrow bands for two points each.
+const VERIFY_AXES: &str = r#"
+[creepage_x]
+points = [0.0, 0.00015, 0.0003, 0.0006, 0.0012, 0.003]
+mirrored = true
+[creepage_y]
+points = [0.0, 0.0002, 0.0005, 0.001]
+[spin]
+points = [-0.06, -0.02, 0.0, 0.02, 0.06]
+[normal_force]
+points = [90e3, 110e3]
+[speed]
+points = [27.0, 33.0]
+[wetness]
+points = [0.3, 1.0]
+"#;
+
+fn files(name: &str, params: &str, axes: &str) -> (PathBuf, PathBuf) {
+    let p = tmp(&format!("{name}-params.toml"));
+    std::fs::write(&p, params).unwrap();
+    let a = tmp(&format!("{name}-axes.toml"));
+    std::fs::write(&a, axes).unwrap();
+    (p, a)
+}
+
+fn build(params: &Path, axes: &Path, out: &Path, extra: &[&str], threads: &str) {
+    let mut args = vec![
+        "table",
+        "build",
+        "--params",
+        s(params),
+        "--axes",
+        s(axes),
+        "--out",
+        s(out),
+    ];
+    args.extend_from_slice(extra);
+    ok(&wheelrail(&args, Some(threads)));
+}
+
+fn array_files(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut v: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "npy"))
+        .map(|p| {
+            (
+                p.file_name().unwrap().to_string_lossy().into_owned(),
+                std::fs::read(&p).unwrap(),
+            )
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+fn sidecar(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("table.json")).unwrap()).unwrap()
+}
+
+fn params_grid(n: usize) -> Params {
+    let mut p = Params::default();
+    p.grid.nx = n;
+    p.grid.ny = n;
+    p
+}
+
+/// Mirroring the contact in y, (η, φ) → (−η, −φ), gives (F_x, F_y, M_z) → (F_x, −F_y, −M_z) with the same
+/// temperature and fluid load: the table stores η ≥ 0 only.
+#[test]
+fn y_mirror_symmetry_holds_dry_and_wet() {
+    let p = params_grid(10);
+    for (w, v) in [(0.0, 30.0), (0.6, 60.0)] {
+        let a = OperatingPoint {
+            creepage_x: 0.004,
+            creepage_y: 0.003,
+            spin: 0.4,
+            normal_force: 90e3,
+            speed: v,
+            wetness: w,
+        };
+        let b = OperatingPoint {
+            creepage_y: -a.creepage_y,
+            spin: -a.spin,
+            ..a
+        };
+        let (sa, sb) = (solve(&p, &a).unwrap(), solve(&p, &b).unwrap());
+        assert!(sa.report.converged && sb.report.converged);
+        let (ga, gb) = (&sa.global, &sb.global);
+        let tol = 1e-7 * a.normal_force;
+        assert!(ga.force_y.abs() > 100.0 * tol && ga.spin_moment.abs() > 1e-3);
+        assert!((ga.force_x - gb.force_x).abs() < tol, "w {w}");
+        assert!((ga.force_y + gb.force_y).abs() < tol, "w {w}");
+        assert!(
+            (ga.spin_moment + gb.spin_moment).abs() < tol * 1e-2,
+            "w {w}"
+        );
+        assert!((ga.max_temperature - gb.max_temperature).abs() < 1e-6);
+        assert!((ga.fluid_load_fraction - gb.fluid_load_fraction).abs() < 1e-7);
+    }
+}
+
+/// Reversing ξ alone gives (F_x, F_y, M_z) → (−F_x, F_y, M_z): exact for the dry model (wheel and rail of
+/// the same steel swap their surface speeds V(1 ± ξ/2)); with fluid the film sees the rail speed, and the
+/// difference stays below 1e-3·F_N even at ξ = 0.1 and 100 m/s — the justification for storing ξ ≥ 0 only.
+#[test]
+fn xi_mirror_is_exact_dry_and_close_wet() {
+    let p = params_grid(10);
+    let mut worst_wet: f64 = 0.0;
+    for (xi, w, v, f) in [
+        (0.006, 0.0, 30.0, 100e3),
+        (0.1, 0.0, 100.0, 200e3),
+        (0.1, 0.1, 100.0, 200e3),
+        (0.1, 1.0, 100.0, 100e3),
+        (0.02, 1.0, 30.0, 10e3),
+    ] {
+        let a = OperatingPoint {
+            creepage_x: xi,
+            creepage_y: 0.002,
+            spin: 0.3,
+            normal_force: f,
+            speed: v,
+            wetness: w,
+        };
+        let b = OperatingPoint {
+            creepage_x: -xi,
+            ..a
+        };
+        let (sa, sb) = (solve(&p, &a).unwrap(), solve(&p, &b).unwrap());
+        assert!(sa.report.converged && sb.report.converged);
+        let (ga, gb) = (&sa.global, &sb.global);
+        let dx = (ga.force_x + gb.force_x).abs() / f;
+        let dy = (ga.force_y - gb.force_y).abs() / f;
+        if w == 0.0 {
+            assert!(dx < 1e-9 && dy < 1e-9, "dry ξ {xi}: {dx:e} {dy:e}");
+            assert!((ga.max_temperature - gb.max_temperature).abs() < 1e-6);
+        } else {
+            worst_wet = worst_wet.max(dx.hypot(dy));
+            assert!(dx.hypot(dy) < 1e-3, "wet ξ {xi} w {w}: {dx:e} {dy:e}");
+        }
+    }
+    // the asymmetry is real (the fluid sees V(1 − ξ/2)), not a sign error hidden by a loose bound
+    assert!(worst_wet > 1e-6, "{worst_wet:e}");
+}
+
+#[test]
+fn builds_are_identical_whatever_the_thread_count_and_shards_merge_to_the_same_arrays() {
+    let (params, axes) = files("det", SMALL_GRID, SMALL_AXES);
+    let one = tmp("det-1");
+    let two = tmp("det-2");
+    build(&params, &axes, &one, &[], "1");
+    build(&params, &axes, &two, &[], "2");
+    let arrays = array_files(&one);
+    assert_eq!(arrays.len(), 6);
+    assert_eq!(arrays, array_files(&two));
+    let (mut s1, mut s2) = (sidecar(&one), sidecar(&two));
+    assert_eq!(s1["build"]["threads"], 1);
+    assert_eq!(s2["build"]["threads"], 2);
+    s1.as_object_mut().unwrap().remove("build");
+    s2.as_object_mut().unwrap().remove("build");
+    assert_eq!(s1, s2);
+
+    let shards: Vec<PathBuf> = (1..=3).map(|k| tmp(&format!("det-shard{k}"))).collect();
+    for (k, d) in shards.iter().enumerate() {
+        build(
+            &params,
+            &axes,
+            d,
+            &["--shard", &format!("{}/3", k + 1)],
+            "2",
+        );
+    }
+    let info = ok(&wheelrail(&["table", "info", s(&shards[1])], None));
+    assert!(info.contains("shard           2/3"), "{info}");
+    // a shard is not a usable table
+    let e = Table::load(&shards[0]).unwrap_err().to_string();
+    assert!(e.contains("shard 1/3") && e.contains("merge"), "{e}");
+    let merged = tmp("det-merged");
+    let mut args = vec!["table", "merge", s(&merged)];
+    // any order of the shard directories
+    args.extend(shards.iter().rev().map(|p| s(p)));
+    ok(&wheelrail(&args, None));
+    assert_eq!(array_files(&merged), arrays);
+    assert_eq!(sidecar(&merged)["build"]["merged_shards"], 3);
+    // missing or repeated shards are refused
+    let o = wheelrail(
+        &[
+            "table",
+            "merge",
+            s(&tmp("bad-merge")),
+            s(&shards[0]),
+            s(&shards[1]),
+        ],
+        None,
+    );
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("exactly once"));
+    let o = wheelrail(
+        &[
+            "table",
+            "merge",
+            s(&tmp("bad-merge")),
+            s(&shards[0]),
+            s(&shards[0]),
+            s(&shards[1]),
+        ],
+        None,
+    );
+    assert!(!o.status.success());
+    let o = wheelrail(
+        &["table", "build", "--shard", "4/3", "--out", s(&tmp("x"))],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2));
+
+    // the table reproduces the exact solver at its own points (η < 0 and ξ < 0 by mirroring)
+    let t = Table::load(&one).unwrap();
+    let p = Params::from_toml_str(SMALL_GRID).unwrap();
+    assert!(t.matches(&p) && !t.matches(&Params::default()));
+    for pt in [
+        OperatingPoint {
+            creepage_x: 0.003,
+            creepage_y: -0.001,
+            spin: 0.05,
+            normal_force: 80e3,
+            speed: 40.0,
+            wetness: 0.3,
+        },
+        OperatingPoint {
+            creepage_x: -0.008,
+            creepage_y: 0.003,
+            spin: -0.2,
+            normal_force: 120e3,
+            speed: 20.0,
+            wetness: 0.0,
+        },
+    ] {
+        let e = solve(&p, &pt).unwrap().global;
+        let o = t.evaluate(&pt).unwrap();
+        assert!(o.in_range && o.converged);
+        let f = pt.normal_force;
+        // the ξ mirror is exact dry and within 1e-3 F_N wet
+        assert!((o.force_x - e.force_x).abs() < 1e-3 * f, "{pt:?}");
+        assert!((o.force_y - e.force_y).abs() < 1e-6 * f, "{pt:?}");
+        assert!((o.max_temperature - e.max_temperature).abs() < 0.5);
+    }
+}
+
+#[test]
+fn corrupt_or_mismatched_tables_are_refused_with_clear_errors() {
+    let (params, axes) = files("bad", SMALL_GRID, SMALL_AXES);
+    let good = tmp("bad-good");
+    build(&params, &axes, &good, &[], "2");
+    Table::load(&good).unwrap();
+    let copy = |name: &str| {
+        let d = tmp(name);
+        std::fs::create_dir_all(&d).unwrap();
+        for e in std::fs::read_dir(&good).unwrap() {
+            let p = e.unwrap().path();
+            std::fs::copy(&p, d.join(p.file_name().unwrap())).unwrap();
+        }
+        d
+    };
+    let err = |d: &Path| Table::load(d).unwrap_err().to_string();
+    let array = "force_x_per_normal_force.npy";
+
+    let d = copy("bad-flip");
+    let mut b = std::fs::read(d.join(array)).unwrap();
+    let n = b.len();
+    b[n - 3] ^= 0x10;
+    std::fs::write(d.join(array), &b).unwrap();
+    let e = err(&d);
+    assert!(e.contains("SHA-256 mismatch") && e.contains(array), "{e}");
+    // the CLI reports it on one line and exits non-zero
+    let o = wheelrail(&["point", "--table", s(&d), "--params", s(&params)], None);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("SHA-256 mismatch"));
+
+    let d = copy("bad-truncated");
+    std::fs::write(d.join(array), &b[..n / 2]).unwrap();
+    assert!(err(&d).contains("SHA-256 mismatch"));
+
+    let d = copy("bad-missing");
+    std::fs::remove_file(d.join("converged.npy")).unwrap();
+    let e = err(&d);
+    assert!(
+        e.contains("converged.npy") && e.contains("cannot read"),
+        "{e}"
+    );
+
+    let d = copy("bad-fingerprint");
+    let mut v = sidecar(&d);
+    v["fingerprint"] = "0".repeat(64).into();
+    std::fs::write(d.join("table.json"), v.to_string()).unwrap();
+    assert!(err(&d).contains("fingerprint mismatch"));
+
+    // a changed parameter is caught even with the array hashes intact
+    let d = copy("bad-params");
+    let mut v = sidecar(&d);
+    v["params"]["roughness"]["k_r"] = 0.6.into();
+    std::fs::write(d.join("table.json"), v.to_string()).unwrap();
+    assert!(err(&d).contains("fingerprint mismatch"));
+
+    let d = copy("bad-version");
+    let mut v = sidecar(&d);
+    v["format_version"] = 99.into();
+    std::fs::write(d.join("table.json"), v.to_string()).unwrap();
+    assert!(err(&d).contains("format version 99"));
+    let mut v = sidecar(&d);
+    v["format_version"] = 1.into();
+    v["model_version"] = "0.0.1".into();
+    std::fs::write(d.join("table.json"), v.to_string()).unwrap();
+    assert!(err(&d).contains("model version 0.0.1"));
+
+    let d = copy("bad-json");
+    std::fs::write(d.join("table.json"), "{ not json").unwrap();
+    assert!(err(&d).contains("malformed sidecar"));
+    assert!(err(&tmp("no-such-table")).contains("cannot read the sidecar"));
+
+    // point --table with parameters other than the table's
+    let o = wheelrail(&["point", "--table", s(&good)], None);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("other parameters"));
+}
+
+/// The spot check of a table against the exact solver: a table built here passes `table verify`; the same
+/// arrays relabelled as computed for other parameters (a stale table with a consistent sidecar) fail it.
+#[test]
+fn verify_passes_a_good_table_and_fails_a_stale_one() {
+    let (params, axes) = files("ver", SMALL_GRID, VERIFY_AXES);
+    let dir = tmp("ver-table");
+    build(&params, &axes, &dir, &[], "2");
+    let o = wheelrail(
+        &["table", "verify", s(&dir), "--samples", "60", "--json"],
+        None,
+    );
+    let out = ok(&o);
+    let r: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(r["compared"], 60, "{r}");
+    let p99 = r["force"]["p99"].as_f64().unwrap();
+    let max = r["force"]["max"].as_f64().unwrap();
+    assert!(p99 <= 0.01 && max <= 0.03, "{r}");
+    // not trivially zero: the samples fall between the points
+    assert!(r["force"]["mean"].as_f64().unwrap() > 1e-6, "{r}");
+    let info = ok(&wheelrail(&["table", "info", s(&dir)], None));
+    assert!(
+        info.contains("960 = ξ 6 × η 4 × φ 5 × F_N 2 × V 2 × w 2"),
+        "{info}"
+    );
+
+    // stale: the arrays of k_wet = 0.4 presented as k_wet = 0.3 (boundary-lubrication failure stress),
+    // sidecar consistent (fingerprint recomputed)
+    let mut v = sidecar(&dir);
+    let mut p = Params::from_toml_str(SMALL_GRID).unwrap();
+    p.fluid.k_wet = 0.3;
+    v["params"] = serde_json::to_value(&p).unwrap();
+    v["fingerprint"] = wheelrail::table::fingerprint(&p).into();
+    std::fs::write(dir.join("table.json"), v.to_string()).unwrap();
+    Table::load(&dir).unwrap();
+    let o = wheelrail(&["table", "verify", s(&dir), "--samples", "20"], None);
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    assert!(String::from_utf8_lossy(&o.stderr).contains("accuracy target missed"));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("MISSED"));
+}
+
+#[test]
+fn point_by_table_has_the_exact_keys_and_agrees_at_table_points() {
+    let (params, axes) = files("pt", SMALL_GRID, SMALL_AXES);
+    let dir = tmp("pt-table");
+    build(&params, &axes, &dir, &[], "2");
+    let args = |table: bool| {
+        let mut a = vec![
+            "point",
+            "--json",
+            "--params",
+            s(&params),
+            "--creepage-x",
+            "0.003",
+            "--creepage-y",
+            "0.001",
+            "--spin",
+            "-0.05",
+            "--normal-force",
+            "120000",
+            "--speed",
+            "20",
+            "--wetness",
+            "0",
+        ];
+        if table {
+            a.extend(["--table", s(&dir)]);
+        }
+        a
+    };
+    let t: serde_json::Value = serde_json::from_str(&ok(&wheelrail(&args(true), None))).unwrap();
+    let e: serde_json::Value = serde_json::from_str(&ok(&wheelrail(&args(false), None))).unwrap();
+    assert_eq!(t["evaluation"], "table");
+    assert_eq!(e["evaluation"], "exact");
+    assert_eq!(t["in_range"], true);
+    for k in [
+        "force_x",
+        "force_y",
+        "spin_moment",
+        "traction_coefficient",
+        "max_temperature",
+        "fluid_load_fraction",
+        "semi_axis_a",
+        "semi_axis_b",
+        "peak_pressure",
+        "normal_force",
+    ] {
+        let (a, b) = (t[k].as_f64().unwrap(), e[k].as_f64().unwrap());
+        assert!((a - b).abs() <= 1e-9 * b.abs().max(1.0), "{k}: {a} vs {b}");
+    }
+    assert_eq!(t["converged"], true);
+    assert_eq!(t["friction_law"], e["friction_law"]);
+    // outside the ranges: clamped, flagged, warned
+    let mut a = args(true);
+    let speed = a.iter().position(|x| *x == "20").unwrap();
+    a[speed] = "90";
+    let o = wheelrail(&a, None);
+    let v: serde_json::Value = serde_json::from_str(&ok(&o)).unwrap();
+    assert_eq!(v["in_range"], false);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("outside the table's ranges"));
+}
