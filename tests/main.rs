@@ -3,5 +3,6 @@
 mod cli;
 mod fluid;
 mod fmu;
+mod paper;
 mod solver;
 mod table;

@@ -3,6 +3,7 @@
 mod curve;
 mod fields;
 mod point;
+mod reproduce;
 mod table;
 
 use anyhow::{Context, Result, bail};
@@ -26,6 +27,8 @@ enum Command {
     Curve(curve::CurveArgs),
     /// Write the local fields of one operating point as CSV (optional heat maps).
     Fields(fields::FieldsArgs),
+    /// Reproduce the paper's result figures (Figs. 5, 7, 10–21) as CSV, PNG and SVG.
+    Reproduce(reproduce::ReproduceArgs),
     /// Build, merge, verify and describe lookup tables of the model (tabulation mode).
     Table(table::TableArgs),
 }
@@ -126,6 +129,21 @@ fn pair(name: &str, text: &str) -> Result<[f64; 2]> {
     Ok(out)
 }
 
+/// Parses a grid "NX,NY": two whole numbers 4 ..= 400.
+pub fn grid_arg(text: &str) -> Result<(usize, usize)> {
+    let [nx, ny] = pair("grid", text)?;
+    for (name, v) in [("grid (NX)", nx), ("grid (NY)", ny)] {
+        if v.fract() != 0.0 || !(4.0..=400.0).contains(&v) {
+            bail!(wheelrail::Error::out_of_range(
+                name,
+                v,
+                "whole number 4 ..= 400"
+            ));
+        }
+    }
+    Ok((nx as usize, ny as usize))
+}
+
 impl ModelArgs {
     /// The parameter set: defaults, then the parameter file, then the flags; validated.
     pub fn params(&self) -> Result<Params> {
@@ -156,18 +174,7 @@ impl ModelArgs {
             p.geometry.semi_axes = Some(pair("semi-axes", s)?);
         }
         if let Some(g) = &self.grid {
-            let [nx, ny] = pair("grid", g)?;
-            for (name, v) in [("grid (NX)", nx), ("grid (NY)", ny)] {
-                if v.fract() != 0.0 || !(4.0..=400.0).contains(&v) {
-                    bail!(wheelrail::Error::out_of_range(
-                        name,
-                        v,
-                        "whole number 4 ..= 400"
-                    ));
-                }
-            }
-            p.grid.nx = nx as usize;
-            p.grid.ny = ny as usize;
+            (p.grid.nx, p.grid.ny) = grid_arg(g)?;
         }
         if self.no_heat {
             p.solver.heat = false;
@@ -215,6 +222,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Point(a) => point::run(&a),
         Command::Curve(a) => curve::run(&a),
         Command::Fields(a) => fields::run(&a),
+        Command::Reproduce(a) => reproduce::run(&a),
         Command::Table(a) => table::run(&a),
     }
 }
