@@ -270,7 +270,7 @@ pub static VARIABLES: [Variable; 26] = [
         causality: Causality::Output,
         variability: Variability::Discrete,
         kind: Kind::Boolean { start: None },
-        description: "Whether the exact solver's coupled iteration met its tolerance (true for table evaluation and a lifted wheel)",
+        description: "Whether the exact solver's coupled iteration met its tolerance; by table, whether every table point used converged when the table was built; true for a lifted wheel",
     },
     parameter(
         "roughness",
