@@ -33,6 +33,17 @@ fn tmp(name: &str) -> PathBuf {
     p
 }
 
+/// Removes this test's directories and files (names starting with `prefix`).
+fn cleanup(prefix: &str) {
+    let d = std::env::temp_dir().join(format!("wheelrail-table-{}", std::process::id()));
+    for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
+        if e.file_name().to_string_lossy().starts_with(prefix) {
+            let p = e.path();
+            let _ = std::fs::remove_dir_all(&p).or_else(|_| std::fs::remove_file(&p));
+        }
+    }
+}
+
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
@@ -249,7 +260,7 @@ fn builds_are_identical_whatever_the_thread_count_and_shards_merge_to_the_same_a
         &[
             "table",
             "merge",
-            s(&tmp("bad-merge")),
+            s(&tmp("det-bad-merge")),
             s(&shards[0]),
             s(&shards[1]),
         ],
@@ -261,7 +272,7 @@ fn builds_are_identical_whatever_the_thread_count_and_shards_merge_to_the_same_a
         &[
             "table",
             "merge",
-            s(&tmp("bad-merge")),
+            s(&tmp("det-bad-merge")),
             s(&shards[0]),
             s(&shards[0]),
             s(&shards[1]),
@@ -270,7 +281,14 @@ fn builds_are_identical_whatever_the_thread_count_and_shards_merge_to_the_same_a
     );
     assert!(!o.status.success());
     let o = wheelrail(
-        &["table", "build", "--shard", "4/3", "--out", s(&tmp("x"))],
+        &[
+            "table",
+            "build",
+            "--shard",
+            "4/3",
+            "--out",
+            s(&tmp("det-x")),
+        ],
         None,
     );
     assert_eq!(o.status.code(), Some(2));
@@ -306,6 +324,7 @@ fn builds_are_identical_whatever_the_thread_count_and_shards_merge_to_the_same_a
         assert!((o.force_y - e.force_y).abs() < 1e-6 * f, "{pt:?}");
         assert!((o.max_temperature - e.max_temperature).abs() < 0.5);
     }
+    cleanup("det-");
 }
 
 #[test]
@@ -377,12 +396,13 @@ fn corrupt_or_mismatched_tables_are_refused_with_clear_errors() {
     let d = copy("bad-json");
     std::fs::write(d.join("table.json"), "{ not json").unwrap();
     assert!(err(&d).contains("malformed sidecar"));
-    assert!(err(&tmp("no-such-table")).contains("cannot read the sidecar"));
+    assert!(err(&tmp("bad-no-such-table")).contains("cannot read the sidecar"));
 
     // point --table with parameters other than the table's
     let o = wheelrail(&["point", "--table", s(&good)], None);
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("other parameters"));
+    cleanup("bad-");
 }
 
 /// The spot check of a table against the exact solver: a table built here passes `table verify`; the same
@@ -428,6 +448,7 @@ fn verify_passes_a_good_table_and_fails_a_stale_one() {
     );
     assert!(String::from_utf8_lossy(&o.stderr).contains("accuracy target missed"));
     assert!(String::from_utf8_lossy(&o.stdout).contains("MISSED"));
+    cleanup("ver-");
 }
 
 #[test]
@@ -489,4 +510,5 @@ fn point_by_table_has_the_exact_keys_and_agrees_at_table_points() {
     let v: serde_json::Value = serde_json::from_str(&ok(&o)).unwrap();
     assert_eq!(v["in_range"], false);
     assert!(String::from_utf8_lossy(&o.stderr).contains("outside the table's ranges"));
+    cleanup("pt-");
 }
