@@ -329,48 +329,9 @@ mod tests {
     use crate::contact::HertzContact;
     use crate::params::{CELSIUS_ZERO, Material};
 
-    /// Gauss–Kronrod 7–15 nodes/weights on [−1, 1].
-    const XGK: [f64; 8] = [
-        0.991_455_371_120_812_6,
-        0.949_107_912_342_758_5,
-        0.864_864_423_359_769_1,
-        0.741_531_185_599_394_4,
-        0.586_087_235_467_691_1,
-        0.405_845_151_377_397_2,
-        0.207_784_955_007_898_5,
-        0.0,
-    ];
-    const WGK: [f64; 8] = [
-        0.022_935_322_010_529_22,
-        0.063_092_092_629_978_55,
-        0.104_790_010_322_250_2,
-        0.140_653_259_715_525_9,
-        0.169_004_726_639_267_9,
-        0.190_350_578_064_785_4,
-        0.204_432_940_075_298_9,
-        0.209_482_141_084_727_8,
-    ];
-    const WG: [f64; 4] = [
-        0.129_484_966_168_869_7,
-        0.279_705_391_489_276_7,
-        0.381_830_050_505_118_9,
-        0.417_959_183_673_469_4,
-    ];
-
+    /// One G7/K15 panel: (Kronrod value, |Kronrod − Gauss|).
     fn gk15(f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> (f64, f64) {
-        let c = 0.5 * (a + b);
-        let hl = 0.5 * (b - a);
-        let fc = f(c);
-        let mut k = WGK[7] * fc;
-        let mut g = WG[3] * fc;
-        for j in 0..7 {
-            let (f1, f2) = (f(c - hl * XGK[j]), f(c + hl * XGK[j]));
-            k += WGK[j] * (f1 + f2);
-            if j % 2 == 1 {
-                g += WG[j / 2] * (f1 + f2);
-            }
-        }
-        (k * hl, ((k - g) * hl).abs())
+        crate::thermal::quadrature::gauss_kronrod_15(&f, a, b)
     }
 
     /// Globally adaptive Gauss–Kronrod quadrature (slow reference): bisects the interval with the largest

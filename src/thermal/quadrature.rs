@@ -1,5 +1,6 @@
 //! Adaptive Gauss–Kronrod quadrature (7-point Gauss, 15-point Kronrod; Piessens et al., QUADPACK 1983)
-//! with an absolute error target, used for the lateral integral of the moving-source kernel.
+//! with an absolute error target, used for the lateral integral of the moving-source kernel; its G7/K15 panel
+//! also serves the microcontact's reference quadrature in tests.
 
 /// Kronrod abscissae on [−1, 1] (non-negative half, descending); the odd entries are the Gauss nodes.
 const XGK: [f64; 8] = [
@@ -45,7 +46,7 @@ pub struct Quadrature {
 }
 
 /// One G7/K15 panel on [lo, hi]: (Kronrod value, |Kronrod − Gauss|).
-fn gauss_kronrod_15(f: &impl Fn(f64) -> f64, lo: f64, hi: f64) -> (f64, f64) {
+pub(crate) fn gauss_kronrod_15(f: &impl Fn(f64) -> f64, lo: f64, hi: f64) -> (f64, f64) {
     let centre = 0.5 * (lo + hi);
     let half = 0.5 * (hi - lo);
     let fc = f(centre);
