@@ -22,4 +22,4 @@ pub mod thermal;
 
 pub use error::{Error, Result};
 pub use params::{FrictionLaw, OperatingPoint, Params};
-pub use solver::{Solution, solve};
+pub use solver::{Solution, solve, solve_from};

@@ -164,6 +164,8 @@ pub fn normal_contact(params: &Params, normal_force: f64) -> Result<HertzContact
 
 /// The microcontact and fluid state of every cell for one temperature field.
 struct Local {
+    /// Separation at which the asperities alone carry p_n (equal to `separation` when dry) [m].
+    dry_separation: Vec<f64>,
     separation: Vec<f64>,
     area_fraction: Vec<f64>,
     metal_load: Vec<f64>,
@@ -186,9 +188,11 @@ struct Setup<'a> {
 impl Setup<'_> {
     /// Microcontact (and, when wet, the fluid film) at the cells' material states.
     /// `fluid_tolerance` is the film sweep tolerance for this outer iteration.
+    /// `dry_guess`: per-cell separations to start the microcontact Newton from (the previous iterate).
     fn local(
         &self,
         mats: &[MaterialState],
+        dry_guess: Option<&[f64]>,
         warm: Option<&FilmSolution>,
         fluid_tolerance: f64,
         report: &mut SolverReport,
@@ -198,7 +202,10 @@ impl Setup<'_> {
         let mut area = vec![0.0; n];
         let mut load = vec![0.0; n];
         for c in 0..n {
-            let s = self.micro.separation_for_load(self.p_n[c], &mats[c])?;
+            let guess = dry_guess.map_or(f64::NAN, |g| g[c]);
+            let s = self
+                .micro
+                .separation_for_load_from(self.p_n[c], &mats[c], guess)?;
             if !s.converged {
                 return Err(Error::Numerical {
                     stage: "microcontact",
@@ -221,6 +228,7 @@ impl Setup<'_> {
         };
         if h_f0 <= 0.0 {
             return Ok(Local {
+                dry_separation: dry_d.clone(),
                 separation: dry_d,
                 area_fraction: area,
                 metal_load: load,
@@ -251,6 +259,7 @@ impl Setup<'_> {
         report.fluid_sweeps = film.sweeps;
         report.fluid_residual = film.residual;
         Ok(Local {
+            dry_separation: dry_d,
             separation: film.separation.clone(),
             area_fraction: film.area_fraction.clone(),
             metal_load: film.metal_load.clone(),
@@ -270,8 +279,23 @@ pub fn surface_speeds(point: &OperatingPoint) -> (f64, f64) {
     )
 }
 
-/// Solves one operating point with the exact (coupled) model; see the module documentation.
+/// Solves one operating point with the exact (coupled) model from a cold start (T = T0, no fluid); see
+/// the module documentation.
 pub fn solve(params: &Params, point: &OperatingPoint) -> Result<Solution> {
+    solve_from(params, point, None)
+}
+
+/// As [`solve`], starting the fixed point from the fields of a nearby solution (the previous point of a
+/// traction–creepage sweep, the previous FMU step, a neighbouring table point): its temperature, its
+/// separations as the microcontact Newton's starting points and its film as the film solver's start.
+/// The start is used only if it lies on a grid of the same topology (same nx × ny, same active cells;
+/// the grid is normalised by the semi-axes, so a different load still qualifies); otherwise the solve
+/// starts cold. The converged result is the same fixed point to within the solver tolerance.
+pub fn solve_from(
+    params: &Params,
+    point: &OperatingPoint,
+    warm: Option<&Fields>,
+) -> Result<Solution> {
     params.validate()?;
     point.validate()?;
     let hertz = normal_contact(params, point.normal_force)?;
@@ -312,13 +336,24 @@ pub fn solve(params: &Params, point: &OperatingPoint) -> Result<Solution> {
         micro,
     };
 
-    let mut temperature = vec![t0; n];
+    let warm = warm.filter(|w| {
+        w.grid.nx == setup.grid.nx
+            && w.grid.ny == setup.grid.ny
+            && w.grid.len() == n
+            && w.temperature.len() == n
+    });
+    // a warm temperature only helps when it feeds back (heat on, Tomberger law)
+    let mut temperature = match warm {
+        Some(w) if heat.is_some() && tomberger => w.temperature.clone(),
+        _ => vec![t0; n],
+    };
+    let mut dry_guess: Option<Vec<f64>> = warm.map(|w| w.separation.clone());
     let mut tau_l = vec![0.0; n];
     let mut k_fail = vec![params.friction.k_dry; n];
     let mut prev_tau: Option<Vec<f64>> = None;
     let mut prev_increment: Option<Vec<f64>> = None;
     let mut omega = params.solver.relaxation;
-    let mut film: Option<FilmSolution> = None;
+    let mut film: Option<FilmSolution> = warm.and_then(warm_film);
     let mut report = SolverReport {
         iterations: 0,
         residual: f64::INFINITY,
@@ -333,14 +368,22 @@ pub fn solve(params: &Params, point: &OperatingPoint) -> Result<Solution> {
         // materials at T → microcontact and fluid → failure stress → adhesion limit
         let mats: Vec<MaterialState> = temperature.iter().map(|t| params.material.at(*t)).collect();
         // inexact inner solve: while the temperature still moves, the film need only be as accurate as
-        // the outer iteration; the final iterations use the full fluid tolerance
+        // the outer iteration; once the outer residual is within 100× the tolerance (the next iteration
+        // may be the last) the film is solved to the full fluid tolerance
         let fluid_tol = params.solver.fluid_tolerance;
-        let inner_tol = if heat.is_some() && tomberger {
-            (1e-2 * report.residual).clamp(fluid_tol, fluid_tol.max(1e-5))
-        } else {
-            fluid_tol
-        };
-        let local = setup.local(&mats, film.as_ref(), inner_tol, &mut report)?;
+        let inner_tol =
+            if heat.is_some() && tomberger && report.residual > 1e2 * params.solver.tolerance {
+                (1e-2 * report.residual).clamp(fluid_tol, fluid_tol.max(1e-5))
+            } else {
+                fluid_tol
+            };
+        let local = setup.local(
+            &mats,
+            dry_guess.as_deref(),
+            film.as_ref(),
+            inner_tol,
+            &mut report,
+        )?;
         for c in 0..n {
             tau_l[c] = if tomberger {
                 k_fail[c] = friction::failure_stress_factor(
@@ -420,6 +463,7 @@ pub fn solve(params: &Params, point: &OperatingPoint) -> Result<Solution> {
         }
         prev_increment = Some(increment);
         prev_tau = Some(tau_l.clone());
+        dry_guess = Some(local.dry_separation);
         film = local.film;
     };
     Ok(assemble(
@@ -433,6 +477,58 @@ pub fn solve(params: &Params, point: &OperatingPoint) -> Result<Solution> {
         temperature,
         report,
     ))
+}
+
+/// Number of warm-started chains a sweep is cut into (fixed, so that the results do not depend on the
+/// thread count).
+const SWEEP_CHAINS: usize = 8;
+
+/// Solves a sequence of nearby operating points (a traction–creepage sweep, a line of a table) with
+/// continuation: each point starts from its predecessor's solution ([`solve_from`]). The sequence is cut
+/// into at most 8 contiguous chains solved in parallel (rayon); the first point of a chain, and a point
+/// after a failed one, start cold. The cut does not depend on the thread count, so neither do the results.
+pub fn solve_sweep(params: &Params, points: &[OperatingPoint]) -> Vec<Result<Solution>> {
+    use rayon::prelude::*;
+    let chain = points.len().div_ceil(SWEEP_CHAINS).max(1);
+    points
+        .par_chunks(chain)
+        .flat_map_iter(|chunk| {
+            let mut prev: Option<Solution> = None;
+            chunk
+                .iter()
+                .map(|pt| {
+                    let warm = prev.as_ref().and_then(|s| s.fields.as_ref());
+                    let r = solve_from(params, pt, warm);
+                    prev = r.as_ref().ok().cloned();
+                    r
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
+/// The film state of a previous solution as the film solver's starting iterate (None if it had no fluid).
+fn warm_film(fields: &Fields) -> Option<FilmSolution> {
+    let n = fields.separation.len();
+    fields
+        .fluid_height
+        .iter()
+        .any(|h| *h > 0.0)
+        .then(|| FilmSolution {
+            separation: fields.separation.clone(),
+            fluid_pressure: fields.fluid_pressure.clone(),
+            fluid_height: fields.fluid_height.clone(),
+            void_height: vec![0.0; n],
+            area_fraction: fields.area_fraction.clone(),
+            metal_load: fields.nominal_metal_pressure.clone(),
+            regime: fields.regime.clone(),
+            sweeps: 0,
+            residual: f64::INFINITY,
+            converged: false,
+            inflow: 0.0,
+            outflow: 0.0,
+            expelled: 0.0,
+        })
 }
 
 fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {

@@ -148,3 +148,85 @@ fn grid_convergence_below_one_percent() {
         assert!(change < 0.01, "ξ = {xi}: {fc} vs {ff}");
     }
 }
+
+/// Relative difference of the global results that matter to a user (forces, f, temperature, fluid share).
+fn global_difference(a: &wheelrail::Solution, b: &wheelrail::Solution) -> f64 {
+    let fa = &a.global;
+    let fb = &b.global;
+    let scale = fa.normal_force;
+    [
+        (fa.force_x - fb.force_x).abs() / scale,
+        (fa.force_y - fb.force_y).abs() / scale,
+        (fa.traction_coefficient - fb.traction_coefficient).abs(),
+        (fa.max_temperature - fb.max_temperature).abs() / (fa.max_temperature - 273.15),
+        (fa.fluid_load_fraction - fb.fluid_load_fraction).abs(),
+    ]
+    .into_iter()
+    .fold(0.0, f64::max)
+}
+
+#[test]
+fn a_warm_start_converges_to_the_cold_solution_within_the_solver_tolerance() {
+    let p = Params::default();
+    // start from a far-away point (other creepage, load, speed, wetness) on the same grid topology
+    let far = solve(
+        &p,
+        &OperatingPoint {
+            creepage_x: 0.05,
+            creepage_y: 0.003,
+            normal_force: 150e3,
+            speed: 10.0,
+            wetness: 0.5,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    for pt in [
+        dry(0.01, 30.0),
+        OperatingPoint {
+            wetness: 1.0,
+            ..dry(0.01, 30.0)
+        },
+        OperatingPoint {
+            spin: 0.5,
+            ..dry(-0.003, 60.0)
+        },
+    ] {
+        let cold = solve(&p, &pt).unwrap();
+        let warm = wheelrail::solve_from(&p, &pt, far.fields.as_ref()).unwrap();
+        assert!(cold.report.converged && warm.report.converged);
+        let d = global_difference(&cold, &warm);
+        // each result is within the tolerance (1e-6, relative change per iteration) of the fixed point;
+        // measured differences are ~1e-9
+        assert!(d < 1e-6, "{pt:?}: warm differs from cold by {d}");
+    }
+    // another grid topology: the start is ignored, the result is the cold one exactly
+    let mut fine = p.clone();
+    fine.grid.nx = 20;
+    fine.grid.ny = 20;
+    let pt = dry(0.01, 30.0);
+    assert_eq!(
+        wheelrail::solve_from(&fine, &pt, far.fields.as_ref()).unwrap(),
+        solve(&fine, &pt).unwrap()
+    );
+}
+
+#[test]
+fn a_continuation_sweep_equals_independent_solves() {
+    let p = Params::default();
+    let points: Vec<OperatingPoint> = (0..12)
+        .map(|k| OperatingPoint {
+            wetness: if k % 2 == 0 { 0.0 } else { 1.0 },
+            ..dry(0.001 + 0.004 * k as f64, 30.0)
+        })
+        .collect();
+    let swept = wheelrail::solver::solve_sweep(&p, &points);
+    assert_eq!(swept.len(), points.len());
+    for (pt, s) in points.iter().zip(swept) {
+        let s = s.unwrap();
+        let cold = solve(&p, pt).unwrap();
+        assert!(s.report.converged);
+        let d = global_difference(&cold, &s);
+        assert!(d < 1e-6, "{pt:?}: sweep differs from cold by {d}");
+    }
+}

@@ -1,12 +1,13 @@
 //! `wheelrail curve`: a traction–creepage curve over one creepage.
 
-use super::{ModelArgs, solution_json, solve_reporting};
-use anyhow::{Result, bail};
+use super::{ModelArgs, solution_json, warn_unconverged};
+use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
-use rayon::prelude::*;
 use std::io::Write;
 use std::path::PathBuf;
+use wheelrail::OperatingPoint;
 use wheelrail::plot::{Chart, Series, line_chart};
+use wheelrail::solver::solve_sweep;
 
 /// Which creepage is swept.
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq)]
@@ -87,8 +88,8 @@ pub fn run(a: &CurveArgs) -> Result<()> {
     let values: Vec<f64> = (0..a.points)
         .map(|k| a.min + (a.max - a.min) * k as f64 / (a.points - 1) as f64)
         .collect();
-    let rows: Vec<Result<serde_json::Value>> = values
-        .par_iter()
+    let points: Vec<OperatingPoint> = values
+        .iter()
         .map(|&v| {
             let mut pt = base;
             match a.over {
@@ -97,7 +98,15 @@ pub fn run(a: &CurveArgs) -> Result<()> {
                 Over::Spin => pt.spin = v,
             }
             pt.validate()?;
-            let s = solve_reporting(&params, &pt)?;
+            Ok(pt)
+        })
+        .collect::<Result<_>>()?;
+    let rows: Vec<Result<serde_json::Value>> = solve_sweep(&params, &points)
+        .into_iter()
+        .zip(&values)
+        .map(|(s, &v)| {
+            let s = s.context("solving the operating point")?;
+            warn_unconverged(&s);
             let mut j = solution_json(&params, &s);
             j.as_object_mut()
                 .expect("object")

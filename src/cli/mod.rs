@@ -238,13 +238,18 @@ pub fn exit_code(e: &anyhow::Error) -> u8 {
 /// Solves and warns on stderr when the coupled iteration did not converge.
 pub fn solve_reporting(params: &Params, pt: &OperatingPoint) -> Result<wheelrail::Solution> {
     let s = wheelrail::solve(params, pt).context("solving the operating point")?;
+    warn_unconverged(&s);
+    Ok(s)
+}
+
+/// Warns on stderr when the coupled iteration of a solution did not converge.
+pub fn warn_unconverged(s: &wheelrail::Solution) {
     if !s.report.converged {
         eprintln!(
             "warning: not converged after {} iterations (residual {:.3e})",
             s.report.iterations, s.report.residual
         );
     }
-    Ok(s)
 }
 
 /// The JSON object of a solution: global results, convergence report and the friction law.
