@@ -202,7 +202,12 @@ impl Setup<'_> {
         let mut area = vec![0.0; n];
         let mut load = vec![0.0; n];
         for c in 0..n {
-            let guess = dry_guess.map_or(f64::NAN, |g| g[c]);
+            // the last iterate of this cell, else the neighbour just solved in the same strip
+            let guess = match dry_guess {
+                Some(g) => g[c],
+                None if c > 0 && self.grid.cells[c - 1].j == self.grid.cells[c].j => dry_d[c - 1],
+                None => f64::NAN,
+            };
             let s = self
                 .micro
                 .separation_for_load_from(self.p_n[c], &mats[c], guess)?;
