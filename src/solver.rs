@@ -290,16 +290,92 @@ pub fn solve(params: &Params, point: &OperatingPoint) -> Result<Solution> {
     solve_from(params, point, None)
 }
 
-/// As [`solve`], starting the fixed point from the fields of a nearby solution (the previous point of a
-/// traction–creepage sweep, the previous FMU step, a neighbouring table point): its temperature, its
-/// separations as the microcontact Newton's starting points and its film as the film solver's start.
-/// The start is used only if it lies on a grid of the same topology (same nx × ny, same active cells;
-/// the grid is normalised by the semi-axes, so a different load still qualifies); otherwise the solve
-/// starts cold. The converged result is the same fixed point to within the solver tolerance.
+/// Where a solve can start from: the state of a nearby solution (the previous point of a traction–creepage
+/// sweep, the previous FMU step, a neighbouring table point), one value per active cell of its grid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WarmStart {
+    /// Grid cells along x and y of the solution.
+    pub nx: usize,
+    /// Grid cells along y.
+    pub ny: usize,
+    /// Surface temperature [K].
+    pub temperature: Vec<f64>,
+    /// Separation d of the mean planes [m].
+    pub separation: Vec<f64>,
+    /// Fluid pressure p_f [Pa].
+    pub fluid_pressure: Vec<f64>,
+    /// Fluid height l_f [m].
+    pub fluid_height: Vec<f64>,
+}
+
+impl WarmStart {
+    /// The warm start of a solution's fields.
+    pub fn of(fields: &Fields) -> Self {
+        Self {
+            nx: fields.grid.nx,
+            ny: fields.grid.ny,
+            temperature: fields.temperature.clone(),
+            separation: fields.separation.clone(),
+            fluid_pressure: fields.fluid_pressure.clone(),
+            fluid_height: fields.fluid_height.clone(),
+        }
+    }
+
+    /// Whether it fits `grid`: same nx × ny and as many cells (the grid is normalised by the semi-axes,
+    /// so the active cells are the same whatever the load).
+    fn fits(&self, grid: &ContactGrid) -> bool {
+        let n = grid.len();
+        self.nx == grid.nx
+            && self.ny == grid.ny
+            && [
+                &self.temperature,
+                &self.separation,
+                &self.fluid_pressure,
+                &self.fluid_height,
+            ]
+            .iter()
+            .all(|v| v.len() == n)
+    }
+
+    /// The film as the film solver's starting iterate (None without fluid).
+    fn film(&self) -> Option<FilmSolution> {
+        let n = self.separation.len();
+        self.fluid_height
+            .iter()
+            .any(|h| *h > 0.0)
+            .then(|| FilmSolution {
+                separation: self.separation.clone(),
+                fluid_pressure: self.fluid_pressure.clone(),
+                fluid_height: self.fluid_height.clone(),
+                void_height: vec![0.0; n],
+                area_fraction: vec![0.0; n],
+                metal_load: vec![0.0; n],
+                regime: vec![Regime::Dry; n],
+                sweeps: 0,
+                residual: f64::INFINITY,
+                converged: false,
+                inflow: 0.0,
+                outflow: 0.0,
+                expelled: 0.0,
+            })
+    }
+}
+
+impl Solution {
+    /// The state to start a nearby solve from (None for the closed-form Polach law).
+    pub fn warm_start(&self) -> Option<WarmStart> {
+        self.fields.as_ref().map(WarmStart::of)
+    }
+}
+
+/// As [`solve`], starting the fixed point from a nearby solution's state ([`WarmStart`]): its temperature,
+/// its separations as the microcontact Newton's starting points and its film as the film solver's start.
+/// The start is used only if it fits the grid (same nx × ny); otherwise the solve starts cold. The
+/// converged result is the same fixed point to within the solver tolerance.
 pub fn solve_from(
     params: &Params,
     point: &OperatingPoint,
-    warm: Option<&Fields>,
+    warm: Option<&WarmStart>,
 ) -> Result<Solution> {
     params.validate()?;
     point.validate()?;
@@ -341,12 +417,7 @@ pub fn solve_from(
         micro,
     };
 
-    let warm = warm.filter(|w| {
-        w.grid.nx == setup.grid.nx
-            && w.grid.ny == setup.grid.ny
-            && w.grid.len() == n
-            && w.temperature.len() == n
-    });
+    let warm = warm.filter(|w| w.fits(&setup.grid));
     // a warm temperature only helps when it feeds back (heat on, Tomberger law)
     let mut temperature = match warm {
         Some(w) if heat.is_some() && tomberger => w.temperature.clone(),
@@ -358,7 +429,7 @@ pub fn solve_from(
     let mut prev_tau: Option<Vec<f64>> = None;
     let mut prev_increment: Option<Vec<f64>> = None;
     let mut omega = params.solver.relaxation;
-    let mut film: Option<FilmSolution> = warm.and_then(warm_film);
+    let mut film: Option<FilmSolution> = warm.and_then(WarmStart::film);
     let mut report = SolverReport {
         iterations: 0,
         residual: f64::INFINITY,
@@ -498,42 +569,17 @@ pub fn solve_sweep(params: &Params, points: &[OperatingPoint]) -> Vec<Result<Sol
     points
         .par_chunks(chain)
         .flat_map_iter(|chunk| {
-            let mut prev: Option<Solution> = None;
+            let mut prev: Option<WarmStart> = None;
             chunk
                 .iter()
                 .map(|pt| {
-                    let warm = prev.as_ref().and_then(|s| s.fields.as_ref());
-                    let r = solve_from(params, pt, warm);
-                    prev = r.as_ref().ok().cloned();
+                    let r = solve_from(params, pt, prev.as_ref());
+                    prev = r.as_ref().ok().and_then(Solution::warm_start);
                     r
                 })
                 .collect::<Vec<_>>()
         })
         .collect()
-}
-
-/// The film state of a previous solution as the film solver's starting iterate (None if it had no fluid).
-fn warm_film(fields: &Fields) -> Option<FilmSolution> {
-    let n = fields.separation.len();
-    fields
-        .fluid_height
-        .iter()
-        .any(|h| *h > 0.0)
-        .then(|| FilmSolution {
-            separation: fields.separation.clone(),
-            fluid_pressure: fields.fluid_pressure.clone(),
-            fluid_height: fields.fluid_height.clone(),
-            void_height: vec![0.0; n],
-            area_fraction: fields.area_fraction.clone(),
-            metal_load: fields.nominal_metal_pressure.clone(),
-            regime: fields.regime.clone(),
-            sweeps: 0,
-            residual: f64::INFINITY,
-            converged: false,
-            inflow: 0.0,
-            outflow: 0.0,
-            expelled: 0.0,
-        })
 }
 
 fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {

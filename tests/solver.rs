@@ -193,7 +193,7 @@ fn a_warm_start_converges_to_the_cold_solution_within_the_solver_tolerance() {
         },
     ] {
         let cold = solve(&p, &pt).unwrap();
-        let warm = wheelrail::solve_from(&p, &pt, far.fields.as_ref()).unwrap();
+        let warm = wheelrail::solve_from(&p, &pt, far.warm_start().as_ref()).unwrap();
         assert!(cold.report.converged && warm.report.converged);
         let d = global_difference(&cold, &warm);
         // each result is within the tolerance (1e-6, relative change per iteration) of the fixed point;
@@ -206,7 +206,7 @@ fn a_warm_start_converges_to_the_cold_solution_within_the_solver_tolerance() {
     fine.grid.ny = 20;
     let pt = dry(0.01, 30.0);
     assert_eq!(
-        wheelrail::solve_from(&fine, &pt, far.fields.as_ref()).unwrap(),
+        wheelrail::solve_from(&fine, &pt, far.warm_start().as_ref()).unwrap(),
         solve(&fine, &pt).unwrap()
     );
 }
