@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use wheelrail::solver::WarmStart;
 use wheelrail::table::{Table, TableOutput};
 use wheelrail::{OperatingPoint, Params};
 
@@ -100,9 +101,15 @@ pub enum Route<'a> {
     Table(&'a Table),
 }
 
-/// The exact solver's results as an [`Evaluation`].
-fn exact(params: &Params, point: &OperatingPoint) -> wheelrail::Result<Evaluation> {
-    let s = wheelrail::solve(params, point)?;
+/// The exact solver's results as an [`Evaluation`], started from `warm` (if any), which then holds the
+/// new solution's state.
+fn exact(
+    params: &Params,
+    point: &OperatingPoint,
+    warm: &mut Option<WarmStart>,
+) -> wheelrail::Result<Evaluation> {
+    let s = wheelrail::solve_from(params, point, warm.as_ref())?;
+    *warm = s.warm_start();
     let g = &s.global;
     Ok(Evaluation {
         force_x: g.force_x,
@@ -179,12 +186,13 @@ impl Evaluator {
 
     /// Evaluates one operating point: (results, evaluation_mode code 1 table / 2 exact, notice). An exact
     /// solve uses the solver tolerance tightened to `tolerance` if given (the table is chosen by `params`
-    /// as they are).
+    /// as they are), starts from `warm` if it holds a state and leaves its own state there.
     pub fn evaluate(
         &self,
         params: &Params,
         point: &OperatingPoint,
         tolerance: Option<f64>,
+        warm: &mut Option<WarmStart>,
     ) -> Result<(Evaluation, i32, Option<Notice>), EvalError> {
         let (route, notice) = self.route(params, point).map_err(EvalError::Mode)?;
         match route {
@@ -193,7 +201,7 @@ impl Evaluator {
                 if let Some(t) = tolerance {
                     p.solver.tolerance = p.solver.tolerance.min(t);
                 }
-                Ok((exact(&p, point)?, 2, notice))
+                Ok((exact(&p, point, warm)?, 2, notice))
             }
             Route::Table(t) => Ok((from_table(&t.evaluate(point)?), 1, notice)),
         }

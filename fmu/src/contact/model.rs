@@ -34,6 +34,7 @@ use crate::fmi2::logging::Logger;
 use crate::fmi2::model::{Model, ModelInfo};
 use crate::fmi2::variables::{Value, Values};
 use std::path::PathBuf;
+use wheelrail::solver::WarmStart;
 use wheelrail::{Error, OperatingPoint, Params};
 
 /// Normal force at or below which the wheel counts as lifted [N]: the library's smallest admissible load.
@@ -97,6 +98,9 @@ pub struct WheelRailModel {
     resources: Option<PathBuf>,
     resolved: Option<Resolved>,
     wetness_warned: bool,
+    /// The state of the last exact solve of `calculate` (parameter `warm_start`): the next exact solve
+    /// starts from it. A cache: not part of the FMU state, forgotten by `fmi2Reset`.
+    warm: Option<WarmStart>,
     /// Table notices already logged (each once per instance, until `fmi2Reset`).
     noticed: Vec<Notice>,
 }
@@ -248,11 +252,13 @@ impl WheelRailModel {
     }
 
     /// Evaluates the outputs of the current values: (results in the FMU's frame, evaluation_mode, status).
-    /// `tolerance` tightens the exact solver's tolerance (for finite differences).
+    /// `tolerance` tightens the exact solver's tolerance (for finite differences). With `warm_start` on, an
+    /// exact solve starts from the last `calculate`'s state; `keep` makes its own state the next start.
     fn evaluate(
         &mut self,
         values: &Values,
         tolerance: Option<f64>,
+        keep: bool,
         log: &Logger,
     ) -> Result<(Evaluation, i32, Status), String> {
         let (evaluator, mut status) = self.evaluator(values, log)?;
@@ -271,12 +277,20 @@ impl WheelRailModel {
             };
             return Ok((lifted, evaluator.code(), status));
         };
-        let (mut e, code, notice) = evaluator
-            .evaluate(&params, &solved.point, tolerance)
-            .map_err(|e| match e {
-                EvalError::Library(e) => translate(e, values),
-                EvalError::Mode(m) => m,
-            })?;
+        let warm_start = values.boolean(WARM_START);
+        let mut warm = match (warm_start, keep) {
+            (false, _) => None,
+            (true, true) => self.warm.take(),
+            (true, false) => self.warm.clone(),
+        };
+        let result = evaluator.evaluate(&params, &solved.point, tolerance, &mut warm);
+        if warm_start && keep {
+            self.warm = warm;
+        }
+        let (mut e, code, notice) = result.map_err(|e| match e {
+            EvalError::Library(e) => translate(e, values),
+            EvalError::Mode(m) => m,
+        })?;
         if let Some(n) = notice {
             self.notice(n, log, &mut status);
         }
@@ -355,6 +369,7 @@ impl Model for WheelRailModel {
             resources,
             resolved: None,
             wetness_warned: false,
+            warm: None,
             noticed: Vec::new(),
         }
     }
@@ -362,11 +377,12 @@ impl Model for WheelRailModel {
     fn reset(&mut self) {
         self.resolved = None;
         self.wetness_warned = false;
+        self.warm = None;
         self.noticed.clear();
     }
 
     fn calculate(&mut self, values: &mut Values, log: &Logger) -> Result<Status, String> {
-        let (e, mode, mut status) = self.evaluate(values, None, log)?;
+        let (e, mode, mut status) = self.evaluate(values, None, true, log)?;
         if !e.converged {
             log.warning(&if mode == 1 {
                 "the lookup table's points around this operating point did not converge when the table was \
@@ -396,7 +412,7 @@ impl Model for WheelRailModel {
             return Ok(d);
         }
         forward_difference(values, unknowns, knowns, seed, DERIVATIVE_STEP, |v| {
-            let (e, mode, _) = self.evaluate(v, Some(DERIVATIVE_TOLERANCE), log)?;
+            let (e, mode, _) = self.evaluate(v, Some(DERIVATIVE_TOLERANCE), false, log)?;
             let mut out = v.clone();
             write_outputs(&mut out, &e, mode);
             Ok(out)
@@ -413,6 +429,41 @@ mod tests {
         let mut v = Values::start(&VARIABLES);
         v.set(MODE, Value::Integer(2));
         v
+    }
+
+    #[test]
+    fn warm_started_steps_agree_with_cold_ones_within_the_solver_tolerance() {
+        let (log, _) = capturing(false);
+        let mut warm = WheelRailModel::new(None);
+        let mut cold = WheelRailModel::new(None);
+        let mut vw = exact();
+        let mut vc = exact();
+        vw.set(GRID_SIZE, Value::Integer(16));
+        vc.set(GRID_SIZE, Value::Integer(16));
+        vc.set(WARM_START, Value::Boolean(false));
+        for (k, (xi, fz, w)) in [(0.002, 90e3, 0.0), (0.004, 95e3, 0.0), (0.004, 95e3, 1.0)]
+            .into_iter()
+            .enumerate()
+        {
+            for v in [&mut vw, &mut vc] {
+                v.set(CREEPAGE_LONGITUDINAL, Value::Real(xi));
+                v.set(NORMAL_FORCE, Value::Real(fz));
+                v.set(WETNESS, Value::Real(w));
+            }
+            warm.calculate(&mut vw, &log).unwrap();
+            cold.calculate(&mut vc, &log).unwrap();
+            // the warm model carries the last state, the cold one never does
+            assert!(warm.warm.is_some() && cold.warm.is_none(), "step {k}");
+            let (a, b) = (outputs(&vw), outputs(&vc));
+            for (x, y) in a.iter().zip(&b) {
+                assert!(
+                    (x - y).abs() <= 1e-6 * y.abs().max(1e-3),
+                    "step {k}: {a:?} vs {b:?}"
+                );
+            }
+        }
+        warm.reset();
+        assert!(warm.warm.is_none());
     }
 
     fn error_of(change: impl FnOnce(&mut Values)) -> String {

@@ -63,6 +63,9 @@ pub const TABLE_FILE: usize = 24;
 /// `minimum_speed` [m/s].
 pub const MINIMUM_SPEED: usize = 25;
 
+/// `warm_start`: start each exact solve from the previous one's state.
+pub const WARM_START: usize = 26;
+
 /// Default of `minimum_speed`: below this |V| the contact is solved at this speed [m/s].
 pub const DEFAULT_MINIMUM_SPEED: f64 = 0.01;
 /// Default of `grid_size` (MODEL.md §2 project default, 30 × 30 cells).
@@ -161,7 +164,7 @@ const fn integer_parameter(
 }
 
 /// Parameter defaults are the library's (`wheelrail::Params::default()`; a unit test checks them).
-pub static VARIABLES: [Variable; 26] = [
+pub static VARIABLES: [Variable; 27] = [
     input(
         "creepage_longitudinal",
         CREEPAGE_LONGITUDINAL,
@@ -366,6 +369,14 @@ pub static VARIABLES: [Variable; 26] = [
         (1e-6, 1e3),
         "Standstill regularisation: contacts with |rolling_speed| below this speed are solved at this speed",
     ),
+    Variable {
+        name: "warm_start",
+        vr: WARM_START as u32,
+        causality: Causality::Parameter,
+        variability: Variability::Fixed,
+        kind: Kind::Boolean { start: Some(true) },
+        description: "Exact solver: start each solve from the previous exact solution of this instance (its temperature, separation and film fields; several times fewer iterations between nearby steps). Results agree with a cold solve to within the solver tolerance; false makes every output a pure function of the current inputs",
+    },
 ];
 
 /// Units of the variables.
