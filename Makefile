@@ -49,9 +49,12 @@ demo: fmu venv
 
 test: lint test-rust test-python
 
-# criterion benchmarks: exact solver (dry, wet), FASTSIM constant mu, Polach, FMU fmi2DoStep
+# criterion benchmarks in one run: Polach, constant-mu FASTSIM, exact dry and wet, 50-point sweeps, grid
+# scaling, table lookup, FMU fmi2DoStep (exact warm/cold, table) and memory per FMU instance; then the report
+# with every time's ratio to Polach (target/bench/report.md)
 bench:
 	$(CARGO) bench --workspace
+	python3 tools/bench_report.py
 
 clean:
 	$(CARGO) clean

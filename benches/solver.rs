@@ -1,41 +1,122 @@
-//! Time per operating point of the exact solver and of the fast alternatives (Table 1 conditions).
+//! Time per operating point of the exact solver and of the fast alternatives (Table 1 conditions, single
+//! thread), a 50-point traction–creepage sweep with warm starts, and the exact dry point against the grid
+//! size (for the scaling exponent). `make bench` prints all of them with their ratio to Polach.
 
-use criterion::{Criterion, criterion_group, criterion_main};
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
+use wheelrail::baselines::polach;
 use wheelrail::params::FrictionLaw;
+use wheelrail::solver::{normal_contact, solve_sweep};
+use wheelrail::tangential::{Creepages, kalker_coefficients};
 use wheelrail::{OperatingPoint, Params, solve};
 
-fn point(xi: f64) -> OperatingPoint {
+fn point(xi: f64, wetness: f64) -> OperatingPoint {
     OperatingPoint {
         creepage_x: xi,
+        wetness,
         ..Default::default()
     }
 }
 
-fn bench(c: &mut Criterion) {
+fn with_law(law: FrictionLaw) -> Params {
+    let mut p = Params::default();
+    p.friction.law = law;
+    p
+}
+
+fn points(c: &mut Criterion) {
     let mut g = c.benchmark_group("point");
     g.sample_size(10);
-    let dry = Params::default();
-    g.bench_function("exact_dry_1pct_30mps", |b| {
-        b.iter(|| solve(black_box(&dry), black_box(&point(0.01))).unwrap())
-    });
-    let wet = OperatingPoint {
-        wetness: 1.0,
-        ..point(0.01)
+    let cases = [
+        ("exact_dry_1pct_30mps", Params::default(), 0.0),
+        ("exact_wet_1pct_30mps", Params::default(), 1.0),
+        (
+            "fastsim_constant_mu_1pct_30mps",
+            with_law(FrictionLaw::Constant),
+            0.0,
+        ),
+        ("polach_1pct_30mps", with_law(FrictionLaw::Polach), 0.0),
+    ];
+    for (name, params, wetness) in cases {
+        let pt = point(0.01, wetness);
+        g.bench_function(name, |b| {
+            b.iter(|| solve(black_box(&params), black_box(&pt)).unwrap())
+        });
+    }
+    // the bare Polach formula, with the contact (Hertz, Kalker's coefficients) computed beforehand as an
+    // MBS code that caches them per contact would
+    let params = Params::default();
+    let hertz = normal_contact(&params, 100e3).unwrap();
+    let mat = params.material.at(params.material.bulk_temperature);
+    let kalker = kalker_coefficients(hertz.a, hertz.b, mat.poisson).unwrap();
+    let creep = Creepages {
+        xi: 0.01,
+        eta: 0.0,
+        phi: 0.0,
     };
-    g.bench_function("exact_wet_1pct_30mps", |b| {
-        b.iter(|| solve(black_box(&dry), black_box(&wet)).unwrap())
+    g.bench_function("polach_formula_only_1pct_30mps", |b| {
+        b.iter(|| {
+            polach(
+                black_box(&params.friction.polach),
+                hertz.a,
+                hertz.b,
+                100e3,
+                mat.shear_modulus,
+                &kalker,
+                black_box(creep),
+                30.0,
+            )
+            .unwrap()
+        })
     });
-    let mut constant = Params::default();
-    constant.friction.law = FrictionLaw::Constant;
-    g.bench_function("fastsim_constant_mu_1pct_30mps", |b| {
-        b.iter(|| solve(black_box(&constant), black_box(&point(0.01))).unwrap())
-    });
-    let mut polach = Params::default();
-    polach.friction.law = FrictionLaw::Polach;
-    g.bench_function("polach_1pct_30mps", |b| {
-        b.iter(|| solve(black_box(&polach), black_box(&point(0.01))).unwrap())
-    });
+    g.finish();
+}
+
+/// A 50-point sweep ξ = 0.1 … 5 % with warm starts, on one thread and on all cores.
+fn sweeps(c: &mut Criterion) {
+    let mut g = c.benchmark_group("sweep");
+    g.sample_size(10);
+    let params = Params::default();
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("thread pool");
+    for wetness in [0.0, 1.0] {
+        let pts: Vec<OperatingPoint> = (0..50)
+            .map(|k| point(0.001 + 0.049 * k as f64 / 49.0, wetness))
+            .collect();
+        let label = if wetness > 0.0 { "wet" } else { "dry" };
+        g.bench_function(format!("curve_50_points_{label}_1_thread"), |b| {
+            b.iter(|| one.install(|| solve_sweep(black_box(&params), black_box(&pts))))
+        });
+        g.bench_function(format!("curve_50_points_{label}_all_threads"), |b| {
+            b.iter(|| solve_sweep(black_box(&params), black_box(&pts)))
+        });
+    }
+    g.finish();
+}
+
+/// The exact dry point (1 %, 30 m/s) on n × n grids.
+fn grid_scaling(c: &mut Criterion) {
+    let mut g = c.benchmark_group("grid_scaling");
+    g.sample_size(10);
+    for n in [10, 15, 20, 30, 45, 60] {
+        let mut params = Params::default();
+        params.grid.nx = n;
+        params.grid.ny = n;
+        let pt = point(0.01, 0.0);
+        let cells = solve(&params, &pt)
+            .unwrap()
+            .fields
+            .expect("fields")
+            .grid
+            .len();
+        g.bench_with_input(
+            BenchmarkId::new("exact_dry_cells", cells),
+            &params,
+            |b, p| b.iter(|| solve(black_box(p), black_box(&pt)).unwrap()),
+        );
+    }
     g.finish();
 }
 
@@ -43,6 +124,6 @@ criterion_group! {
     name = benches;
     // no plots: criterion's plotting backend needs system fonts
     config = Criterion::default().without_plots();
-    targets = bench
+    targets = points, sweeps, grid_scaling
 }
 criterion_main!(benches);

@@ -1,0 +1,92 @@
+//! Shared set-up of the FMU benchmarks.
+
+/// A table for the FMU's default parameters on a 6 × 6 grid (288 points).
+pub fn small_table() -> std::path::PathBuf {
+    use wheelrail::table::{Axes, AxesSpec, AxisSpec};
+    let pts = |p: &[f64]| {
+        Some(AxisSpec {
+            points: Some(p.to_vec()),
+            ..Default::default()
+        })
+    };
+    let axes = Axes::from_spec(&AxesSpec {
+        creepage_x: Some(AxisSpec {
+            points: Some(vec![0.0, 0.002, 0.01]),
+            mirrored: Some(true),
+            ..Default::default()
+        }),
+        creepage_y: pts(&[0.0, 0.002, 0.01]),
+        spin: pts(&[-0.5, -0.1, 0.1, 0.5]),
+        normal_force: pts(&[80e3, 120e3]),
+        speed: pts(&[20.0, 40.0]),
+        wetness: pts(&[0.0, 0.2]),
+    })
+    .unwrap();
+    let mut params = wheelrail::Params::default();
+    params.grid.nx = 6;
+    params.grid.ny = 6;
+    let dir =
+        std::env::temp_dir().join(format!("wheelrail-fmu-bench-table-{}", std::process::id()));
+    let mut files = wheelrail::table::build(&params, &axes, None, &|| ()).unwrap();
+    files.write(&dir).unwrap();
+    dir
+}
+
+/// How a benchmark instance evaluates.
+pub struct Setup<'a> {
+    /// `mode` (0 auto, 1 table only, 2 exact only).
+    pub mode: i32,
+    /// `grid_size`.
+    pub grid: i32,
+    /// `table_file` (None: the bundled default).
+    pub table: Option<&'a std::ffi::CStr>,
+    /// `wetness`.
+    pub wetness: f64,
+    /// `warm_start`.
+    pub warm: bool,
+}
+
+/// An instance of the FMU through the exported C functions, set up and initialised (panics on any
+/// non-OK status: a benchmark of a failing call would measure nothing).
+///
+/// # Safety
+/// Calls the FMU's exported C functions; free the instance with `fmi2FreeInstance`.
+pub unsafe fn instance(s: &Setup) -> WheelRailFriction::fmi2::ffi::Fmi2Component {
+    use WheelRailFriction::contact::variables::*;
+    use WheelRailFriction::exports::*;
+    use WheelRailFriction::fmi2::ffi::{FMI2_COSIMULATION, Fmi2CallbackFunctions};
+    use std::ptr::{null, null_mut};
+    let guid = std::ffi::CString::new(WheelRailFriction::fmi2::description::guid(&INFO)).unwrap();
+    let callbacks = Fmi2CallbackFunctions {
+        logger: None,
+        allocate_memory: None,
+        free_memory: None,
+        step_finished: None,
+        component_environment: null_mut(),
+    };
+    unsafe {
+        let fmu = fmi2Instantiate(
+            c"bench".as_ptr(),
+            FMI2_COSIMULATION,
+            guid.as_ptr(),
+            null(),
+            &callbacks,
+            0,
+            0,
+        );
+        assert!(!fmu.is_null());
+        assert_eq!(fmi2SetInteger(fmu, &(MODE as u32), 1, &s.mode), 0);
+        assert_eq!(fmi2SetInteger(fmu, &(GRID_SIZE as u32), 1, &s.grid), 0);
+        if let Some(t) = s.table {
+            assert_eq!(fmi2SetString(fmu, &(TABLE_FILE as u32), 1, &t.as_ptr()), 0);
+        }
+        assert_eq!(fmi2SetReal(fmu, &(WETNESS as u32), 1, &s.wetness), 0);
+        assert_eq!(
+            fmi2SetBoolean(fmu, &(WARM_START as u32), 1, &i32::from(s.warm)),
+            0
+        );
+        assert_eq!(fmi2EnterInitializationMode(fmu), 0);
+        assert_eq!(fmi2ExitInitializationMode(fmu), 0);
+        fmu
+    }
+}
