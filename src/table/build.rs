@@ -1,10 +1,12 @@
 //! Computing a table with the exact solver (in parallel, deterministic), in one piece or in shards, and
 //! merging shards.
 //!
-//! Every point is solved independently by [`crate::solve`] (single-threaded, deterministic), and the results
-//! are collected in index order, so the array bytes do not depend on the thread count or the scheduling. A
-//! point whose coupled iteration does not converge is solved again with four times the iteration limits and
-//! half the initial relaxation; if it still does not converge, its values are kept, it is flagged 0 in
+//! The points are solved along lines of ξ (all other coordinates fixed), each point of a line starting from
+//! its predecessor's state ([`crate::solver::solve_from`], continuation); the lines are independent, solved
+//! in parallel, each single-threaded and deterministic, and the results are collected in index order, so the
+//! array bytes do not depend on the thread count or the scheduling. A shard holds whole lines. A point
+//! whose coupled iteration does not converge is solved again from a cold start with four times the
+//! iteration limits and half the initial relaxation; if it still does not converge, its values are kept, it is flagged 0 in
 //! `converged.npy` and listed in the sidecar's `unconverged`, and the build reports it. A point whose solve
 //! fails outright fails the build (naming the point).
 
@@ -16,7 +18,7 @@ use super::file::{
 };
 use crate::error::{Error, Result};
 use crate::params::{OperatingPoint, Params};
-use crate::solver::{Solution, solve};
+use crate::solver::{Solution, WarmStart, solve, solve_from};
 use rayon::prelude::*;
 use std::path::Path;
 use std::time::Instant;
@@ -33,11 +35,15 @@ pub fn operating_point(c: &[f64; DIMS]) -> OperatingPoint {
     }
 }
 
-/// Solves one point exactly; if the coupled iteration does not converge, once more with four times the
-/// iteration and fluid-sweep limits and half the initial relaxation. The returned solution may still be
-/// unconverged (its report says so).
-pub fn solve_with_retry(params: &Params, point: &OperatingPoint) -> Result<Solution> {
-    let s = solve(params, point)?;
+/// Solves one point exactly (from `warm`, a neighbouring point's state, if given); if the coupled iteration
+/// does not converge, once more from a cold start with four times the iteration and fluid-sweep limits and
+/// half the initial relaxation. The returned solution may still be unconverged (its report says so).
+pub fn solve_with_retry(
+    params: &Params,
+    point: &OperatingPoint,
+    warm: Option<&WarmStart>,
+) -> Result<Solution> {
+    let s = solve_from(params, point, warm)?;
     if s.report.converged {
         return Ok(s);
     }
@@ -79,17 +85,34 @@ pub fn build(
         ));
     }
     let scale = MomentScale::of(params, axes.0[FORCE].points[0])?;
-    let indices: Vec<usize> = (s.index - 1..axes.len()).step_by(s.count).collect();
+    let indices = shard_indices(axes, s.index, s.count);
     let start = Instant::now();
-    let results: Vec<Result<Solution>> = indices
+    // each ξ line is one continuation chain (every point starts from its predecessor along ξ); lines are
+    // solved in parallel and their results put back in index order
+    let stride = line_stride(axes);
+    let lines: Vec<usize> = indices.iter().filter(|&&i| i < stride).copied().collect();
+    let mut solved: Vec<(usize, Result<Solution>)> = lines
         .par_iter()
         .with_max_len(1)
-        .map(|&i| {
-            let r = solve_with_retry(params, &operating_point(&axes.coordinates(i)));
-            on_point();
-            r
+        .flat_map_iter(|&line| {
+            let mut warm: Option<WarmStart> = None;
+            (line..axes.len())
+                .step_by(stride)
+                .map(|i| {
+                    let r = solve_with_retry(
+                        params,
+                        &operating_point(&axes.coordinates(i)),
+                        warm.as_ref(),
+                    );
+                    warm = r.as_ref().ok().and_then(Solution::warm_start);
+                    on_point();
+                    (i, r)
+                })
+                .collect::<Vec<_>>()
         })
         .collect();
+    solved.sort_by_key(|(i, _)| *i);
+    let results = solved.into_iter().map(|(_, r)| r);
     let mut outputs: Vec<Vec<f64>> = (0..OUTPUTS)
         .map(|_| Vec::with_capacity(indices.len()))
         .collect();
@@ -163,6 +186,20 @@ pub fn build(
     })
 }
 
+/// Distance in flat index between neighbours along ξ (the slowest axis): the number of ξ lines.
+fn line_stride(axes: &Axes) -> usize {
+    axes.len() / axes.0[0].points.len()
+}
+
+/// The flat indices (ascending) of shard K of N: every point of the ξ lines l with l mod N = K − 1
+/// (whole lines, so that each shard keeps its continuation chains).
+fn shard_indices(axes: &Axes, index: usize, count: usize) -> Vec<usize> {
+    let stride = line_stride(axes);
+    (0..axes.len())
+        .filter(|i| (i % stride) % count == index - 1)
+        .collect()
+}
+
 /// Joins the shards 1..=N of one build into the full table. They must come from the same parameters, axes
 /// and model version and cover every part exactly once. The arrays equal those of a build in one piece.
 pub fn merge(mut shards: Vec<(TableFiles, &Path)>) -> Result<TableFiles> {
@@ -221,9 +258,17 @@ pub fn merge(mut shards: Vec<(TableFiles, &Path)>) -> Result<TableFiles> {
     let mut unconverged = Vec::new();
     let mut duration = 0.0;
     let mut threads = 0;
-    for (t, _) in &shards {
+    for (t, path) in &shards {
         let k = t.sidecar.shard.map_or(1, |s| s.index);
-        for (j, i) in (k - 1..total).step_by(count).enumerate() {
+        let indices = shard_indices(&axes, k, count);
+        if indices.len() != t.converged.len() || t.outputs.iter().any(|o| o.len() != indices.len())
+        {
+            return Err(corrupt(
+                path,
+                format!("shard {k}/{count} does not hold the points of its part"),
+            ));
+        }
+        for (j, &i) in indices.iter().enumerate() {
             for (o, src) in outputs.iter_mut().zip(&t.outputs) {
                 o[i] = src[j];
             }

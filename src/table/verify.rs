@@ -164,7 +164,7 @@ pub fn verify(
         .par_iter()
         .with_max_len(1)
         .map(|p| {
-            let exact = solve_with_retry(params, p);
+            let exact = solve_with_retry(params, p, None);
             on_point();
             let exact = exact?;
             if !exact.report.converged {
