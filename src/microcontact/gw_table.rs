@@ -15,8 +15,9 @@
 //! The grid nodes come from a composite Gauss–Legendre quadrature in w = √u with breaks at u = c and
 //! u = 54c (where the asperity law has kinks) and the Gaussian weight scaled by e^{h²/2}, accurate to about
 //! 1e−13. The table is built lazily in blocks of 32 grid intervals in h (4 units of h) of one column (one c),
-//! 20–40 µs each: a process pays only for the (c, h) it meets (a dry operating point, its c varying with
-//! the temperature field, builds about 20 blocks); every block of every column would take 8.9 MB.
+//! 5–15 µs each: a process pays only for the (c, h) it meets (a dry operating point, its c varying with
+//! the temperature field, builds about 20 blocks, 0.2 ms); every block of every column would take 8.9 MB
+//! and about 60 ms.
 //!
 //! Accuracy, relative, of 𝒫, 𝒜 and their h-derivatives against an independent quadrature (10 000 random
 //! samples, a quarter of them in the plastic transitions c ≤ −h ≤ 54c): ≤ 5e−10 for the values and
@@ -309,21 +310,34 @@ fn build_block(law: &Law, b: usize) -> Block {
             }
         }
     }
+    // the scaled weights g_i = W_i·e^{−h·u_i − u_i²/2} of the current row, carried to the next row by the
+    // factor e^{−H_STEP·u_i}; a node gets its weight when it enters the window (at the window's lower end,
+    // which falls as h grows), so there are two exponentials per node instead of one per node and row
+    let mut g = vec![0.0; nodes.len()];
+    let mut factor = vec![0.0; nodes.len()];
+    let mut entered = nodes.len();
     let mut block: Block = Box::new([[0.0; 6]; BLOCK_INTERVALS + 1]);
     for (r, node) in block.iter_mut().enumerate() {
         let h = row_h(r);
         let (u_lo, u_hi) = window(h);
         let first = nodes.partition_point(|n| n.0 < u_lo);
         let last = nodes.partition_point(|n| n.0 <= u_hi);
+        for i in first..entered.min(last) {
+            let (u, wt, ..) = nodes[i];
+            g[i] = wt * (-u * (h + 0.5 * u)).exp();
+            factor[i] = (-H_STEP * u).exp();
+        }
+        entered = entered.min(first);
         let (mut sp, mut sa) = ([0.0; 3], [0.0; 3]);
-        for &(u, wt, a, p) in &nodes[first..last] {
+        for i in first..last {
+            let (u, _, a, p) = nodes[i];
             let s = h + u;
-            let g = wt * (-u * (h + 0.5 * u)).exp();
-            let m = [g, g * s, g * (s * s - 1.0)];
+            let m = [g[i], g[i] * s, g[i] * (s * s - 1.0)];
             for q in 0..3 {
                 sp[q] += m[q] * p;
                 sa[q] += m[q] * a;
             }
+            g[i] *= factor[i];
         }
         // ln 𝒫 = ln S0 − h²/2 − ln √(2π), (ln 𝒫)' = −S1/S0, (ln 𝒫)'' = S2/S0 − (S1/S0)²
         let logs = |m: [f64; 3]| {
