@@ -76,6 +76,18 @@ impl Law {
         }
     }
 
+    /// Dimensionless asperity area a(u) and load p(u) in every regime (u ≥ 0).
+    pub fn asperity(&self, u: f64) -> (f64, f64) {
+        if u <= self.c {
+            (u, elastic(u))
+        } else if u < self.cp {
+            let (a, p) = self.band(u);
+            (u + a, p)
+        } else {
+            (2.0 * u, 2.0 * self.plastic_coef * u)
+        }
+    }
+
     /// Elasto-plastic band, c ≤ u ≤ c_p: (a(u) − u, p(u)).
     #[inline]
     fn band(&self, u: f64) -> (f64, f64) {
@@ -108,7 +120,7 @@ pub struct Integrals {
     pub darea: f64,
 }
 
-/// The quadrature scheme: rules and the precomputed F_1.5 table.
+/// The quadrature scheme: rules (and the process-wide F_1.5 table, built on first use).
 #[derive(Debug, Clone)]
 pub struct Scheme {
     band_rule: GaussLegendre,
@@ -116,7 +128,6 @@ pub struct Scheme {
     elastic_rule: GaussLegendre,
     /// Below this c the elastic part is integrated directly over [0, c].
     direct_below: f64,
-    f15: &'static ReferenceIntegral,
 }
 
 impl Scheme {
@@ -133,7 +144,6 @@ impl Scheme {
             band_pieces,
             elastic_rule: GaussLegendre::new(elastic_nodes),
             direct_below,
-            f15: ReferenceIntegral::f15(),
         }
     }
 
@@ -189,7 +199,7 @@ impl Scheme {
         // elastic part: table minus tail (tail subtracted in the band and plastic pieces), or direct
         let subtract = law.c >= self.direct_below && u_lo == 0.0;
         if subtract {
-            let (f, df) = self.f15.value_and_derivative(h);
+            let (f, df) = ReferenceIntegral::f15().value_and_derivative(h);
             acc.load += 4.0 / 3.0 * f;
             acc.dload += 4.0 / 3.0 * df;
         } else {
