@@ -739,7 +739,16 @@ impl System<'_> {
                 }
                 jac.solve(&mut simplified);
                 if norm2(&simplified).sqrt() <= (1.0 - 0.25 * alpha) * norm {
-                    accepted = Some((change_t, false));
+                    // after a full step the simplified correction estimates the next Newton correction:
+                    // converged when that is below the tolerance (the error-oriented test of NLEQ-ERR)
+                    let next = match alpha == 1.0 {
+                        true => self.predicted_change(&u_t, &s_t, &simplified),
+                        false => None,
+                    };
+                    accepted = Some(match next {
+                        Some(c) if c <= self.pr.tolerance => (c, true),
+                        _ => (change_t, false),
+                    });
                     break;
                 }
                 alpha *= 0.5;
