@@ -44,7 +44,7 @@ pub struct SolverReport {
     pub termination: Termination,
     /// Largest number of root-finder iterations of one microcontact separation solve.
     pub max_microcontact_iterations: usize,
-    /// Gauss–Seidel sweeps of the last fluid film solve (0 without fluid).
+    /// Iterations of the last fluid film solve (0 without fluid).
     pub fluid_sweeps: usize,
     /// Residual of the last fluid film solve (0 without fluid).
     pub fluid_residual: f64,
@@ -250,6 +250,8 @@ impl Setup<'_> {
                 nominal_pressure: &self.p_n,
                 materials: mats,
                 dry_separation: &dry_d,
+                dry_area_fraction: &area,
+                dry_metal_load: &load,
                 micro: &self.micro,
                 base_height: self.base_height,
                 flow_resistance: self.params.fluid.flow_resistance,
@@ -257,11 +259,11 @@ impl Setup<'_> {
                 mean_speed: 0.5 * (v_w + v_r),
                 inlet_film: h_f0,
                 tolerance: fluid_tolerance,
-                max_sweeps: self.params.solver.max_fluid_sweeps,
+                max_iterations: self.params.solver.max_fluid_sweeps,
             },
             warm,
         )?;
-        report.fluid_sweeps = film.sweeps;
+        report.fluid_sweeps = film.iterations;
         report.fluid_residual = film.residual;
         Ok(Local {
             dry_separation: dry_d,

@@ -16,12 +16,34 @@
 //! cell at the mean speed v_m, or for the leading cell of a strip the inlet film h_f0 on the rail at the rail
 //! speed v_r. Transport between cells uses one speed (v_m) on both sides of each face so that the discrete
 //! balance conserves volume exactly (the paper's P16 writes the inflow with v_r,x for every cell, which loses
-//! volume at the rate (v_m − v_r)·h_y·l_f per face whenever ξ ≠ 0). The system is solved by nonlinear
-//! Gauss–Seidel sweeps (as in the paper) marching with the flow, each cell solved exactly for its state.
+//! volume at the rate (v_m − v_r)·h_y·l_f per face whenever ξ ≠ 0).
+//!
+//! Solution: a global semismooth Newton method. (The paper's Gauss–Seidel relaxation needs over a hundred
+//! sweeps on the 30 × 30 grid because pressure spreads about one cell per sweep; it remains as the fallback
+//! and as the reference of the tests.) One unknown u per cell covers both states, so that the
+//! complementarity is part of the parametrisation:
+//!
+//!   u ≤ 0: unpressurised, d = d_dry, p_f = 0, l_f = (1 + u)·l_v(d_dry);
+//!   u > 0: full, d = d_dry + u·z_s, p_f = p_f(d) (P17), l_f = l_v(d).
+//!
+//! Both branches meet at u = 0 (just full, no pressure): the map is continuous with a kink. The equations are
+//! the cell volume balances R(u) = 0, smooth functions of the cells' (p_f, l_f, g). A Newton step linearises
+//! them at the current film (five-point stencil; analytic derivatives of P17, of l_v and of the harmonic
+//! conductances) and lets each cell's (p_f, l_f, g) follow the affine model of the branch on which its new u
+//! falls (exact on the unpressurised branch, the tangent on the full one). The branches are found by
+//! active-set passes (Hintermüller, Ito & Kunisch, SIAM J. Optim. 13 (2003) 865), each a band LU
+//! factorisation of the model Jacobian (cells strip by strip: bandwidth about one strip). The step is capped
+//! at one unit of u in its largest component (z_s in d, the whole void in l_f) and damped by the natural
+//! monotonicity test (Deuflhard, Newton Methods for Nonlinear Problems, 2004, ch. 3). Should Newton stall,
+//! Gauss–Seidel sweeps (each cell solved exactly for its state, marching with the flow) take over. Both
+//! iterations solve the same discrete equations; a unit test checks that they reach the same film.
+
+use std::cell::OnceCell;
 
 use crate::contact::ContactGrid;
 use crate::error::{Error, Result};
 use crate::fluid::CellGeometry;
+use crate::fluid::band::Band;
 use crate::materials::MaterialState;
 use crate::microcontact::Microcontact;
 
@@ -58,6 +80,11 @@ pub struct FilmProblem<'a> {
     pub materials: &'a [MaterialState],
     /// Separation per cell at which the asperities alone carry p_n [m].
     pub dry_separation: &'a [f64],
+    /// Metallic contact area ratio A_m/A_n per cell at the dry separation [-].
+    pub dry_area_fraction: &'a [f64],
+    /// Nominal metallic pressure p_m·A_m/A_n per cell at the dry separation (p_n, or the microcontact
+    /// model's load floor) [Pa].
+    pub dry_metal_load: &'a [f64],
     /// The microcontact model.
     pub micro: &'a Microcontact,
     /// Cell base height d_b [m] (P7).
@@ -70,10 +97,10 @@ pub struct FilmProblem<'a> {
     pub mean_speed: f64,
     /// Inlet film height h_f0 [m].
     pub inlet_film: f64,
-    /// Convergence tolerance on the largest change per sweep of d (in z_s) and l_f (in h_f0) [-].
+    /// Convergence tolerance on the largest change per iteration of d (in z_s) and l_f (in h_f0) [-].
     pub tolerance: f64,
-    /// Sweep limit.
-    pub max_sweeps: usize,
+    /// Iteration limit (Newton iterations and fallback sweeps together).
+    pub max_iterations: usize,
 }
 
 /// The solved film.
@@ -93,11 +120,15 @@ pub struct FilmSolution {
     pub metal_load: Vec<f64>,
     /// Regime per cell.
     pub regime: Vec<Regime>,
-    /// Gauss–Seidel sweeps performed.
-    pub sweeps: usize,
-    /// Largest relative change in the last sweep.
+    /// Iterations performed (Newton steps and fallback Gauss–Seidel sweeps).
+    pub iterations: usize,
+    /// Largest change (of d in z_s, of l_f in h_f0) made by the last iteration, or of the Newton
+    /// correction at the returned film when that met the tolerance [-].
     pub residual: f64,
-    /// Whether the residual met the tolerance.
+    /// Largest volume-balance residual of a cell at the returned film, relative to the flow
+    /// v_m·h_y·h_f0 of the inlet film through one cell width [-].
+    pub balance_residual: f64,
+    /// Whether the residual met the tolerance (for Newton: with a full step or correction).
     pub converged: bool,
     /// Volume flow entering at the inlet [m³/s].
     pub inflow: f64,
@@ -107,13 +138,14 @@ pub struct FilmSolution {
     pub expelled: f64,
 }
 
-/// Faces of a cell: existing neighbours with their geometric factor c = h_⊥/(h_∥·ξ_f), and the summed
-/// factor of the faces on the contact edge.
+/// Faces of a cell: existing neighbours with their geometric factor c = h_⊥/(h_∥·ξ_f) (the first `count`
+/// entries of `list`), and the summed factor of the faces on the contact edge.
 #[derive(Clone)]
 struct Faces {
     up: Option<usize>,
     down: Option<usize>,
-    neighbours: Vec<(usize, f64)>,
+    list: [(usize, f64); 4],
+    count: usize,
     edge: f64,
 }
 
@@ -124,7 +156,8 @@ impl Faces {
         let mut f = Self {
             up: grid.cell_at(i + 1, j),
             down: grid.cell_at(i - 1, j),
-            neighbours: Vec::with_capacity(4),
+            list: [(0, 0.0); 4],
+            count: 0,
             edge: 0.0,
         };
         for (n, cf) in [
@@ -134,12 +167,20 @@ impl Faces {
             (grid.cell_at(i, j + 1), cy),
         ] {
             match n {
-                Some(k) => f.neighbours.push((k, cf)),
+                Some(k) => {
+                    f.list[f.count] = (k, cf);
+                    f.count += 1;
+                }
                 // half a cell to the edge, where the gap is open: conductance 2·c·g_cell
                 None => f.edge += 2.0 * cf,
             }
         }
         f
+    }
+
+    /// The neighbouring cells with their factors c.
+    fn neighbours(&self) -> &[(usize, f64)] {
+        &self.list[..self.count]
     }
 }
 
@@ -158,149 +199,593 @@ fn harmonic_with_slope(a: f64, b: f64) -> (f64, f64) {
     }
 }
 
-/// Solves the film for one outer iteration; `warm` (a previous solution on the same grid) speeds it up.
-pub fn solve_film(pr: &FilmProblem, warm: Option<&FilmSolution>) -> Result<FilmSolution> {
-    let grid = pr.grid;
-    let n = grid.len();
-    if pr.nominal_pressure.len() != n || pr.materials.len() != n || pr.dry_separation.len() != n {
-        return Err(Error::Numerical {
-            stage: "fluid",
-            reason: "field lengths do not match the grid".into(),
-        });
+/// A full cell at separation d: fluid pressure from P17 and its d-derivative, void height (P8–P11) and its
+/// slope, and the microcontact state.
+#[derive(Debug, Clone, Copy)]
+struct Full {
+    /// p_f(d) = (p_n − p_m A_m/A_n)/(1 − A_m/A_n), ≥ 0 [Pa].
+    p: f64,
+    /// dp_f/dd [Pa/m].
+    dp: f64,
+    /// l_v(d) [m].
+    lv: f64,
+    /// dl_v/dd [-].
+    dlv: f64,
+    /// A_m/A_n [-].
+    area: f64,
+    /// p_m·A_m/A_n [Pa].
+    load: f64,
+}
+
+/// A cell at its unknown u: state and the derivatives of p_f, l_f and g = l_v³ with respect to u.
+#[derive(Debug, Clone, Copy, Default)]
+struct CellState {
+    d: f64,
+    p: f64,
+    lf: f64,
+    lv: f64,
+    g: f64,
+    dp: f64,
+    dlf: f64,
+    dg: f64,
+    /// A_m/A_n at d [-].
+    area: f64,
+    /// p_m·A_m/A_n at d [Pa].
+    load: f64,
+}
+
+impl CellState {
+    /// Full cell (u > 0, or u = 0 approached from above) at d = d_dry + u·z_s.
+    fn full(d: f64, f: &Full, z_s: f64) -> Self {
+        let lv2 = f.lv * f.lv;
+        Self {
+            d,
+            p: f.p,
+            lf: f.lv,
+            lv: f.lv,
+            g: lv2 * f.lv,
+            dp: f.dp * z_s,
+            dlf: f.dlv * z_s,
+            dg: 3.0 * lv2 * f.dlv * z_s,
+            area: f.area,
+            load: f.load,
+        }
     }
-    let z_s = pr.micro.surface().z_s;
-    let hy = grid.hy;
-    let cx = grid.hy / (grid.hx * pr.flow_resistance);
-    let cy = grid.hx / (grid.hy * pr.flow_resistance);
-    let vm = pr.mean_speed;
-    let faces: Vec<Faces> = (0..n).map(|k| Faces::of(grid, k, cx, cy)).collect();
-    let void = |d: f64| CellGeometry::at(d, z_s, pr.base_height).void_height;
-    // separation, pressure, fluid height, conductance g = l_v³ per cell
-    let (mut d, mut p, mut lf) = match warm {
-        Some(w) if w.separation.len() == n => (
-            w.separation
-                .iter()
-                .zip(pr.dry_separation)
-                .map(|(d, dd)| d.max(*dd))
-                .collect::<Vec<f64>>(),
-            w.fluid_pressure.clone(),
-            w.fluid_height.clone(),
-        ),
-        _ => (pr.dry_separation.to_vec(), vec![0.0; n], vec![0.0; n]),
-    };
-    let mut g: Vec<f64> = d.iter().map(|x| void(*x).powi(3)).collect();
-    // pressure of a full cell at separation d (P17), its d-derivative, void height and its slope
-    let full_state = |k: usize, d: f64| {
+}
+
+/// Affine model q(u) = a + b·u of a cell's (p_f, l_f, g = l_v³) on one branch.
+#[derive(Debug, Clone, Copy)]
+struct Branch {
+    a: [f64; 3],
+    b: [f64; 3],
+}
+
+/// Newton iterations before Gauss–Seidel sweeps take over.
+const NEWTON_LIMIT: usize = 30;
+/// Most active-set passes of one Newton step.
+const MAX_PASSES: usize = 16;
+/// Largest step component of a Newton step (u is in z_s for d, in l_v(d_dry) for l_f).
+const MAX_STEP: f64 = 1.0;
+/// Smallest damping factor before Gauss–Seidel sweeps take over.
+const MIN_ALPHA: f64 = 1.0 / 1024.0;
+
+/// The discrete film system of one problem, with the per-cell quantities that do not change in a solve.
+struct System<'a> {
+    pr: &'a FilmProblem<'a>,
+    z_s: f64,
+    hy: f64,
+    vm: f64,
+    /// Scale of the fluid height in the convergence test: h_f0, at least 10⁻³·z_s [m].
+    film_scale: f64,
+    faces: Vec<Faces>,
+    /// l_v(d_dry) per cell [m], computed when first needed.
+    dry_void: Vec<OnceCell<f64>>,
+    /// The full state at d_dry per cell, computed when first needed.
+    dry: Vec<OnceCell<Full>>,
+}
+
+impl<'a> System<'a> {
+    fn new(pr: &'a FilmProblem<'a>) -> Result<Self> {
+        let grid = pr.grid;
+        let n = grid.len();
+        if [
+            pr.nominal_pressure.len(),
+            pr.materials.len(),
+            pr.dry_separation.len(),
+            pr.dry_area_fraction.len(),
+            pr.dry_metal_load.len(),
+        ]
+        .iter()
+        .any(|l| *l != n)
+        {
+            return Err(Error::Numerical {
+                stage: "fluid",
+                reason: "field lengths do not match the grid".into(),
+            });
+        }
+        let z_s = pr.micro.surface().z_s;
+        let cx = grid.hy / (grid.hx * pr.flow_resistance);
+        let cy = grid.hx / (grid.hy * pr.flow_resistance);
+        Ok(Self {
+            pr,
+            z_s,
+            hy: grid.hy,
+            vm: pr.mean_speed,
+            film_scale: pr.inlet_film.max(1e-3 * z_s),
+            faces: (0..n).map(|k| Faces::of(grid, k, cx, cy)).collect(),
+            dry_void: vec![OnceCell::new(); n],
+            dry: vec![OnceCell::new(); n],
+        })
+    }
+
+    fn len(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// Full state of cell k at separation d (P17 for p_f, P8–P11 for l_v, MODEL.md §4 for the asperities).
+    fn full(&self, k: usize, d: f64) -> Full {
+        let pr = self.pr;
         let m = pr.micro.evaluate(d, &pr.materials[k]);
-        let geo = CellGeometry::at(d, z_s, pr.base_height);
+        let geo = CellGeometry::at(d, self.z_s, pr.base_height);
         let open = (1.0 - m.area_fraction).max(1e-12);
         let p = ((pr.nominal_pressure[k] - m.load) / open).max(0.0);
-        // dp/dd = (−dL/dd + p·dA/dd)/(1 − A)
-        let dp = (-m.d_load_d_separation + p * m.d_area_d_separation) / open;
-        (p, dp, geo.void_height, geo.void_slope)
-    };
-    let film_scale = pr.inlet_film.max(1e-3 * z_s);
-    let mut sweeps = 0;
-    let mut residual = f64::INFINITY;
-    while sweeps < pr.max_sweeps {
-        sweeps += 1;
-        let mut change: f64 = 0.0;
-        // alternate the lateral order so that pressure spreads both ways
-        let order: Vec<usize> = if sweeps % 2 == 1 {
-            (0..grid.strips.len()).collect()
+        Full {
+            p,
+            // dp/dd = (−dL/dd + p·dA/dd)/(1 − A)
+            dp: (-m.d_load_d_separation + p * m.d_area_d_separation) / open,
+            lv: geo.void_height,
+            dlv: geo.void_slope,
+            area: m.area_fraction,
+            load: m.load,
+        }
+    }
+
+    /// l_v(d_dry) of cell k (cached).
+    fn dry_void(&self, k: usize) -> f64 {
+        *self.dry_void[k].get_or_init(|| {
+            CellGeometry::at(self.pr.dry_separation[k], self.z_s, self.pr.base_height).void_height
+        })
+    }
+
+    /// Full state of cell k at d_dry (cached).
+    fn dry_full(&self, k: usize) -> &Full {
+        self.dry[k].get_or_init(|| self.full(k, self.pr.dry_separation[k]))
+    }
+
+    /// State of cell k at unknown u (left derivative at u = 0).
+    fn state(&self, k: usize, u: f64) -> CellState {
+        let d_dry = self.pr.dry_separation[k];
+        if u > 0.0 {
+            let d = d_dry + u * self.z_s;
+            CellState::full(d, &self.full(k, d), self.z_s)
         } else {
-            (0..grid.strips.len()).rev().collect()
-        };
-        for si in order {
-            for k in grid.strips[si].cells.clone() {
-                let f = &faces[k];
-                let q_in = match f.up {
-                    Some(u) => vm * hy * lf[u],
-                    None => pr.rail_speed * hy * pr.inlet_film,
-                };
-                let d_dry = pr.dry_separation[k];
-                // volume balance of the cell as a function of its separation, full: l_f = l_v(d)
+            let lv = self.dry_void(k);
+            CellState {
+                d: d_dry,
+                p: 0.0,
+                lf: (1.0 + u) * lv,
+                lv,
+                g: lv * lv * lv,
+                dp: 0.0,
+                dlf: lv,
+                dg: 0.0,
+                area: self.pr.dry_area_fraction[k],
+                load: self.pr.dry_metal_load[k],
+            }
+        }
+    }
+
+    fn states(&self, u: &[f64], s: &mut [CellState]) {
+        for (k, (sk, uk)) in s.iter_mut().zip(u).enumerate() {
+            *sk = self.state(k, *uk);
+        }
+    }
+
+    /// Unknown u of cell k for a film (d, p_f, l_f), e.g. a previous solution.
+    fn unknown(&self, k: usize, d: f64, p: f64, lf: f64) -> f64 {
+        if p > 0.0 {
+            ((d - self.pr.dry_separation[k]) / self.z_s).max(0.0)
+        } else {
+            (lf / self.dry_void(k) - 1.0).min(0.0)
+        }
+    }
+
+    /// Volume flow into cell k carried by the surfaces: from the upstream cell at v_m, or the inlet film
+    /// at v_r [m³/s].
+    fn carried_in(&self, k: usize, s: &[CellState]) -> f64 {
+        match self.faces[k].up {
+            Some(u) => self.vm * self.hy * s[u].lf,
+            None => self.pr.rail_speed * self.hy * self.pr.inlet_film,
+        }
+    }
+
+    /// Volume balance of every cell (inflow − outflow) [m³/s].
+    fn residual(&self, s: &[CellState], r: &mut [f64]) {
+        for (k, rk) in r.iter_mut().enumerate() {
+            let f = &self.faces[k];
+            let c = &s[k];
+            let mut v = self.carried_in(k, s) - self.vm * self.hy * c.lf - f.edge * c.g * c.p;
+            for &(nb, cf) in f.neighbours() {
+                v += cf * harmonic(c.g, s[nb].g) * (s[nb].p - c.p);
+            }
+            *rk = v;
+        }
+    }
+
+    /// The unpressurised branch of cell k, exact: p_f = 0, l_f = (1 + u)·l_v(d_dry), g = l_v(d_dry)³.
+    fn left(&self, k: usize) -> Branch {
+        let lv = self.dry_void(k);
+        Branch {
+            a: [0.0, lv, lv * lv * lv],
+            b: [0.0, lv, 0.0],
+        }
+    }
+
+    /// The full branch of cell k linearised at its current state `c` (u > 0) or at the kink (u ≤ 0).
+    fn right(&self, k: usize, u: f64, c: &CellState) -> Branch {
+        if u > 0.0 {
+            let b = [c.dp, c.dlf, c.dg];
+            Branch {
+                a: [c.p - b[0] * u, c.lf - b[1] * u, c.g - b[2] * u],
+                b,
+            }
+        } else {
+            let at = CellState::full(self.pr.dry_separation[k], self.dry_full(k), self.z_s);
+            Branch {
+                a: [at.p, at.lf, at.g],
+                b: [at.dp, at.dlf, at.dg],
+            }
+        }
+    }
+
+    /// Partial derivatives of the balance of cell k with respect to (p_f, l_f, g) of the cells m of its
+    /// stencil, passed to `visit(m, ∂R_k/∂(p_f, l_f, g)_m)` (a cell may be visited more than once).
+    fn coefficients(&self, k: usize, s: &[CellState], mut visit: impl FnMut(usize, [f64; 3])) {
+        let f = &self.faces[k];
+        let c = &s[k];
+        let vh = self.vm * self.hy;
+        let mut own = [-f.edge * c.g, -vh, -f.edge * c.p];
+        if let Some(up) = f.up {
+            visit(up, [0.0, vh, 0.0]);
+        }
+        for &(nb, cf) in f.neighbours() {
+            let o = &s[nb];
+            let (h, dh_own) = harmonic_with_slope(c.g, o.g);
+            let dh_nb = harmonic_with_slope(o.g, c.g).1;
+            let dp = o.p - c.p;
+            own[0] -= cf * h;
+            own[2] += cf * dh_own * dp;
+            visit(nb, [cf * h, 0.0, cf * dh_nb * dp]);
+        }
+        visit(k, own);
+    }
+
+    /// Newton step of the piecewise-linear model: the smooth dependence of the balances on (p_f, l_f, g)
+    /// is linearised at the current film, each cell's (p_f, l_f, g) follows the affine model of the branch
+    /// its new u falls on. The branches are found by active-set passes (start: the current ones; a cell
+    /// exactly on the kink starts on the branch its balance asks for), each a band LU of the model
+    /// Jacobian. Writes the new unknowns to `target`; false if a factorisation fails.
+    fn newton_target(
+        &self,
+        u: &[f64],
+        s: &[CellState],
+        r: &[f64],
+        jac: &mut Band,
+        target: &mut [f64],
+    ) -> bool {
+        let n = self.len();
+        let mut full: Vec<bool> = (0..n)
+            .map(|k| u[k] > 0.0 || (u[k] == 0.0 && r[k] > 0.0))
+            .collect();
+        for _ in 0..MAX_PASSES {
+            let model: Vec<Branch> = (0..n)
+                .map(|k| {
+                    if full[k] {
+                        self.right(k, u[k], &s[k])
+                    } else {
+                        self.left(k)
+                    }
+                })
+                .collect();
+            jac.clear();
+            for k in 0..n {
+                let mut rhs = -r[k];
+                self.coefficients(k, s, |m, c| {
+                    let (br, q) = (&model[m], &s[m]);
+                    jac.add(k, m, c[0] * br.b[0] + c[1] * br.b[1] + c[2] * br.b[2]);
+                    rhs -=
+                        c[0] * (br.a[0] - q.p) + c[1] * (br.a[1] - q.lf) + c[2] * (br.a[2] - q.g);
+                });
+                target[k] = rhs;
+            }
+            if !jac.factor() {
+                return false;
+            }
+            jac.solve(target);
+            let mut same = true;
+            for k in 0..n {
+                let f = target[k] > 0.0;
+                if f != full[k] {
+                    same = false;
+                    full[k] = f;
+                }
+            }
+            if same {
+                break;
+            }
+        }
+        target.iter().all(|t| t.is_finite())
+    }
+
+    /// The change (as in [`Self::change`]) that `step` makes to the linearised film at `u`; None when a
+    /// cell would change branch (no linear estimate then).
+    fn predicted_change(&self, u: &[f64], s: &[CellState], step: &[f64]) -> Option<f64> {
+        let mut m: f64 = 0.0;
+        for ((uk, c), du) in u.iter().zip(s).zip(step) {
+            let full = *uk > 0.0;
+            if full != (uk + du > 0.0) {
+                return None;
+            }
+            let dd = if full { du.abs() } else { 0.0 };
+            m = m.max(dd).max((c.dlf * du).abs() / self.film_scale);
+        }
+        Some(m)
+    }
+
+    /// Largest change between two films: of d in z_s and of l_f in the film scale [-].
+    fn change(&self, a: &[CellState], b: &[CellState]) -> f64 {
+        a.iter().zip(b).fold(0.0, |m: f64, (x, y)| {
+            m.max((x.d - y.d).abs() / self.z_s)
+                .max((x.lf - y.lf).abs() / self.film_scale)
+        })
+    }
+
+    /// One nonlinear Gauss–Seidel sweep marching with the flow (strips in the given lateral order), each
+    /// cell solved exactly for its state with its neighbours fixed. Returns the largest change.
+    fn sweep(&self, u: &mut [f64], s: &mut [CellState], forward: bool) -> Result<f64> {
+        let strips = &self.pr.grid.strips;
+        let vh = self.vm * self.hy;
+        let mut change: f64 = 0.0;
+        for si in 0..strips.len() {
+            let si = if forward { si } else { strips.len() - 1 - si };
+            for k in strips[si].cells.clone() {
+                let f = &self.faces[k];
+                let q_in = self.carried_in(k, s);
+                let d_dry = self.pr.dry_separation[k];
+                // volume balance of the cell as a function of its separation when full (l_f = l_v(d)),
                 // and its derivative in d
-                let balance = |dk: f64| {
-                    let (pk, dpk, lv, dlv) = full_state(k, dk);
-                    let gk = lv * lv * lv;
-                    let dgk = 3.0 * lv * lv * dlv;
-                    let mut r = q_in - vm * hy * lv - f.edge * gk * pk;
-                    let mut dr = -vm * hy * dlv - f.edge * (dgk * pk + gk * dpk);
-                    for &(nb, cf) in &f.neighbours {
-                        let (h, dh) = harmonic_with_slope(gk, g[nb]);
-                        r += cf * h * (p[nb] - pk);
-                        dr += cf * (dh * dgk * (p[nb] - pk) - h * dpk);
+                let balance = |full: &Full| {
+                    let gk = full.lv * full.lv * full.lv;
+                    let dgk = 3.0 * full.lv * full.lv * full.dlv;
+                    let mut r = q_in - vh * full.lv - f.edge * gk * full.p;
+                    let mut dr = -vh * full.dlv - f.edge * (dgk * full.p + gk * full.dp);
+                    for &(nb, cf) in f.neighbours() {
+                        let (h, dh) = harmonic_with_slope(gk, s[nb].g);
+                        r += cf * h * (s[nb].p - full.p);
+                        dr += cf * (dh * dgk * (s[nb].p - full.p) - h * full.dp);
                     }
                     (r, dr)
                 };
-                let (d_new, p_new, lf_new) = if balance(d_dry).0 > 0.0 {
+                let new = if balance(self.dry_full(k)).0 > 0.0 {
                     // more fluid arrives than the cell holds at d_dry: full and pressurised
-                    let dk = root_decreasing(balance, d_dry, d[k], z_s, 1e-13 * z_s)?;
-                    let (pk, _, lv, _) = full_state(k, dk);
-                    (dk, pk, lv)
+                    let dk = root_decreasing(
+                        |d| balance(&self.full(k, d)),
+                        d_dry,
+                        s[k].d,
+                        self.z_s,
+                        1e-13 * self.z_s,
+                    )?;
+                    u[k] = ((dk - d_dry) / self.z_s).max(0.0);
+                    CellState::full(dk, &self.full(k, dk), self.z_s)
                 } else {
                     // unpressurised: the film height follows from the inflow
-                    let gk = void(d_dry).powi(3);
+                    let lv = self.dry_void(k);
+                    let gk = lv * lv * lv;
                     let mut inflow = q_in;
-                    for &(nb, cf) in &f.neighbours {
-                        inflow += cf * harmonic(gk, g[nb]) * p[nb];
+                    for &(nb, cf) in f.neighbours() {
+                        inflow += cf * harmonic(gk, s[nb].g) * s[nb].p;
                     }
-                    (d_dry, 0.0, (inflow / (vm * hy)).min(void(d_dry)))
+                    u[k] = ((inflow / vh).min(lv) / lv - 1.0).min(0.0);
+                    self.state(k, u[k])
                 };
                 change = change
-                    .max((d_new - d[k]).abs() / z_s)
-                    .max((lf_new - lf[k]).abs() / film_scale);
-                d[k] = d_new;
-                p[k] = p_new;
-                lf[k] = lf_new;
-                g[k] = void(d_new).powi(3);
+                    .max((new.d - s[k].d).abs() / self.z_s)
+                    .max((new.lf - s[k].lf).abs() / self.film_scale);
+                s[k] = new;
             }
         }
-        residual = change;
-        if change <= pr.tolerance {
-            break;
-        }
+        Ok(change)
     }
-    let converged = residual <= pr.tolerance;
-    // assemble the fields and the volume balance
-    let mut sol = FilmSolution {
-        separation: d.clone(),
-        fluid_pressure: p.clone(),
-        fluid_height: lf.clone(),
-        void_height: vec![0.0; n],
-        area_fraction: vec![0.0; n],
-        metal_load: vec![0.0; n],
-        regime: vec![Regime::Dry; n],
-        sweeps,
-        residual,
-        converged,
-        inflow: 0.0,
-        outflow: 0.0,
-        expelled: 0.0,
-    };
-    for k in 0..n {
-        let m = pr.micro.evaluate(d[k], &pr.materials[k]);
-        sol.void_height[k] = void(d[k]);
-        sol.area_fraction[k] = m.area_fraction;
-        sol.metal_load[k] = m.load;
-        sol.regime[k] = if lf[k] <= 0.0 {
-            Regime::Dry
-        } else if p[k] * (1.0 - m.area_fraction) >= 0.01 * pr.nominal_pressure[k] {
-            Regime::Mixed
-        } else {
-            Regime::Boundary
+
+    /// The solution fields, regimes and flows of the film `s`.
+    fn solution(
+        &self,
+        s: &[CellState],
+        iterations: usize,
+        residual: f64,
+        converged: bool,
+    ) -> FilmSolution {
+        let n = self.len();
+        let pr = self.pr;
+        let mut r = vec![0.0; n];
+        self.residual(s, &mut r);
+        let balance_residual =
+            r.iter().fold(0.0, |m: f64, x| m.max(x.abs())) / (self.vm * self.hy * self.film_scale);
+        let mut sol = FilmSolution {
+            separation: s.iter().map(|c| c.d).collect(),
+            fluid_pressure: s.iter().map(|c| c.p).collect(),
+            fluid_height: s.iter().map(|c| c.lf.clamp(0.0, c.lv)).collect(),
+            void_height: s.iter().map(|c| c.lv).collect(),
+            area_fraction: vec![0.0; n],
+            metal_load: vec![0.0; n],
+            regime: vec![Regime::Dry; n],
+            iterations,
+            residual,
+            balance_residual,
+            converged,
+            inflow: 0.0,
+            outflow: 0.0,
+            expelled: 0.0,
         };
-        let f = &faces[k];
-        if f.up.is_none() {
-            sol.inflow += pr.rail_speed * hy * pr.inlet_film;
+        for (k, c) in s.iter().enumerate() {
+            sol.area_fraction[k] = c.area;
+            sol.metal_load[k] = c.load;
+            sol.regime[k] = if sol.fluid_height[k] <= 0.0 {
+                Regime::Dry
+            } else if c.p * (1.0 - c.area) >= 0.01 * pr.nominal_pressure[k] {
+                Regime::Mixed
+            } else {
+                Regime::Boundary
+            };
+            let f = &self.faces[k];
+            if f.up.is_none() {
+                sol.inflow += pr.rail_speed * self.hy * pr.inlet_film;
+            }
+            if f.down.is_none() {
+                sol.outflow += self.vm * self.hy * sol.fluid_height[k];
+            }
+            sol.expelled += f.edge * c.g * c.p;
         }
-        if f.down.is_none() {
-            sol.outflow += vm * hy * lf[k];
-        }
-        sol.expelled += f.edge * g[k] * p[k];
+        sol
     }
+}
+
+/// Solves the film for one outer iteration by the semismooth Newton method of the module documentation;
+/// `warm` (a previous solution on the same grid) is the starting film, otherwise every cell starts just
+/// full without pressure (u = 0). Should Newton stall (no acceptable damped step, or more than
+/// NEWTON_LIMIT iterations), Gauss–Seidel sweeps take over from the same start (from an empty film when
+/// cold) with the rest of the iteration budget.
+pub fn solve_film(pr: &FilmProblem, warm: Option<&FilmSolution>) -> Result<FilmSolution> {
+    let sys = System::new(pr)?;
+    let n = sys.len();
+    let start: Option<Vec<f64>> = match warm {
+        Some(w) if w.separation.len() == n => Some(
+            (0..n)
+                .map(|k| sys.unknown(k, w.separation[k], w.fluid_pressure[k], w.fluid_height[k]))
+                .collect(),
+        ),
+        _ => None,
+    };
+    let limit = pr.max_iterations.min(NEWTON_LIMIT);
+    let newton = sys.newton(start.clone().unwrap_or_else(|| vec![0.0; n]), limit);
+    if newton.converged || newton.iterations >= pr.max_iterations {
+        return Ok(newton);
+    }
+    let mut sol = sys.gauss_seidel(
+        start.unwrap_or_else(|| vec![-1.0; n]),
+        pr.max_iterations - newton.iterations,
+    )?;
+    sol.iterations += newton.iterations;
     Ok(sol)
+}
+
+impl System<'_> {
+    /// Damped semismooth Newton iteration from `u` (at most `limit` iterations). Each step is damped until
+    /// the simplified Newton correction at the new film is smaller than the step (natural monotonicity
+    /// test: Deuflhard, Newton Methods for Nonlinear Problems, 2004, ch. 3). Converged when the Newton
+    /// correction at the current film (estimated by the linear model), or a full step, changes the film by
+    /// no more than the tolerance; it stops unconverged when no damped step passes the test.
+    fn newton(&self, mut u: Vec<f64>, limit: usize) -> FilmSolution {
+        let n = self.len();
+        let mut s = vec![CellState::default(); n];
+        self.states(&u, &mut s);
+        let mut r = vec![0.0; n];
+        self.residual(&s, &mut r);
+        let mut jac = Band::new(
+            self.faces
+                .iter()
+                .map(|f| f.neighbours().iter().map(|(k, _)| *k)),
+        );
+        let (mut step, mut simplified) = (vec![0.0; n], vec![0.0; n]);
+        let (mut u_t, mut s_t, mut r_t) = (u.clone(), s.clone(), r.clone());
+        let mut iterations = 0;
+        let mut change = f64::INFINITY;
+        let mut converged = false;
+        while iterations < limit {
+            iterations += 1;
+            if !self.newton_target(&u, &s, &r, &mut jac, &mut step) {
+                break;
+            }
+            for (d, uk) in step.iter_mut().zip(&u) {
+                *d -= uk;
+            }
+            // converged where the Newton correction itself is below the tolerance: the film at u is
+            // returned, within that correction of the solution
+            if let Some(c) = self.predicted_change(&u, &s, &step) {
+                if c <= self.pr.tolerance {
+                    change = c;
+                    converged = true;
+                    break;
+                }
+            }
+            let norm = norm2(&step).sqrt();
+            let largest = step.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+            let mut alpha = (MAX_STEP / largest).min(1.0);
+            let mut accepted = None;
+            while alpha >= MIN_ALPHA {
+                for k in 0..n {
+                    u_t[k] = u[k] + alpha * step[k];
+                }
+                self.states(&u_t, &mut s_t);
+                self.residual(&s_t, &mut r_t);
+                let change_t = self.change(&s, &s_t);
+                // a full step below the tolerance is final (the test may sit at rounding level there)
+                if alpha == 1.0 && change_t <= self.pr.tolerance {
+                    accepted = Some((change_t, true));
+                    break;
+                }
+                for (b, rk) in simplified.iter_mut().zip(&r_t) {
+                    *b = -rk;
+                }
+                jac.solve(&mut simplified);
+                if norm2(&simplified).sqrt() <= (1.0 - 0.25 * alpha) * norm {
+                    // after a full step the simplified correction estimates the next Newton correction:
+                    // converged when that is below the tolerance (the error-oriented test of NLEQ-ERR)
+                    let next = match alpha == 1.0 {
+                        true => self.predicted_change(&u_t, &s_t, &simplified),
+                        false => None,
+                    };
+                    accepted = Some(match next {
+                        Some(c) if c <= self.pr.tolerance => (c, true),
+                        _ => (change_t, false),
+                    });
+                    break;
+                }
+                alpha *= 0.5;
+            }
+            let Some((c, done)) = accepted else {
+                break;
+            };
+            std::mem::swap(&mut u, &mut u_t);
+            std::mem::swap(&mut s, &mut s_t);
+            std::mem::swap(&mut r, &mut r_t);
+            change = c;
+            if done {
+                converged = true;
+                break;
+            }
+        }
+        self.solution(&s, iterations, change, converged)
+    }
+
+    /// Nonlinear Gauss–Seidel sweeps (the paper's method) from `u`, alternating the lateral order so that
+    /// pressure spreads both ways, until the change of a sweep meets the tolerance or `limit` sweeps.
+    fn gauss_seidel(&self, mut u: Vec<f64>, limit: usize) -> Result<FilmSolution> {
+        let mut s = vec![CellState::default(); self.len()];
+        self.states(&u, &mut s);
+        let mut change = f64::INFINITY;
+        let mut sweeps = 0;
+        while sweeps < limit && change > self.pr.tolerance {
+            sweeps += 1;
+            change = self.sweep(&mut u, &mut s, sweeps % 2 == 1)?;
+        }
+        Ok(self.solution(&s, sweeps, change, change <= self.pr.tolerance))
+    }
+}
+
+/// Squared Euclidean norm.
+fn norm2(r: &[f64]) -> f64 {
+    r.iter().map(|x| x * x).sum()
 }
 
 /// Root of a function that is positive at `lo` and decreases to negative values, given with its derivative:
@@ -349,4 +834,233 @@ fn root_decreasing(
         stage: "fluid",
         reason: format!("no separation balances the cell (bracket {a:e} .. {b:e} m)"),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fluid::base_height;
+    use crate::params::{OperatingPoint, Params};
+    use crate::solver::{normal_contact, surface_speeds};
+
+    /// Everything a [`FilmProblem`] borrows, for one operating point with the default parameters and grid.
+    /// The temperature rises linearly from the leading to the trailing edge of each strip, by 2000 K·|ξ|
+    /// (about what frictional heating gives: 20 K at ξ = 0.01), so that the materials differ per cell.
+    struct Case {
+        grid: ContactGrid,
+        p_n: Vec<f64>,
+        mats: Vec<MaterialState>,
+        dry_d: Vec<f64>,
+        dry_area: Vec<f64>,
+        dry_load: Vec<f64>,
+        micro: Microcontact,
+        base_height: f64,
+        flow_resistance: f64,
+        rail_speed: f64,
+        mean_speed: f64,
+        inlet_film: f64,
+    }
+
+    impl Case {
+        fn new(pt: &OperatingPoint) -> Self {
+            Self::heated(pt, 2000.0 * pt.creepage_x.abs())
+        }
+
+        /// As [`Case::new`] with a trailing-edge temperature rise `rise` [K].
+        fn heated(pt: &OperatingPoint, rise: f64) -> Self {
+            let params = Params::default();
+            let hertz = normal_contact(&params, pt.normal_force).unwrap();
+            let grid = ContactGrid::for_contact(&hertz, params.grid.nx, params.grid.ny);
+            let p_n: Vec<f64> = grid
+                .cells
+                .iter()
+                .map(|c| hertz.parabolic_pressure(c.x, c.y))
+                .collect();
+            let mut mats = Vec::new();
+            for s in &grid.strips {
+                for c in &grid.cells[s.cells.clone()] {
+                    let along = (s.half_length - c.x) / (2.0 * s.half_length);
+                    mats.push(
+                        params
+                            .material
+                            .at(params.material.bulk_temperature + rise * along),
+                    );
+                }
+            }
+            let micro = Microcontact::new(&params.roughness).unwrap();
+            let dry: Vec<_> = p_n
+                .iter()
+                .zip(&mats)
+                .map(|(p, m)| micro.separation_for_load(*p, m).unwrap().state)
+                .collect();
+            let (v_w, v_r) = surface_speeds(pt);
+            Self {
+                p_n,
+                mats,
+                dry_d: dry.iter().map(|s| s.separation).collect(),
+                dry_area: dry.iter().map(|s| s.area_fraction).collect(),
+                dry_load: dry.iter().map(|s| s.load).collect(),
+                base_height: base_height(micro.surface().z_s, params.fluid.psi_b),
+                micro,
+                grid,
+                flow_resistance: params.fluid.flow_resistance,
+                rail_speed: v_r,
+                mean_speed: 0.5 * (v_w + v_r),
+                inlet_film: pt.wetness * params.fluid.h_f_max,
+            }
+        }
+
+        fn problem(&self, tolerance: f64, max_iterations: usize) -> FilmProblem<'_> {
+            FilmProblem {
+                grid: &self.grid,
+                nominal_pressure: &self.p_n,
+                materials: &self.mats,
+                dry_separation: &self.dry_d,
+                dry_area_fraction: &self.dry_area,
+                dry_metal_load: &self.dry_load,
+                micro: &self.micro,
+                base_height: self.base_height,
+                flow_resistance: self.flow_resistance,
+                rail_speed: self.rail_speed,
+                mean_speed: self.mean_speed,
+                inlet_film: self.inlet_film,
+                tolerance,
+                max_iterations,
+            }
+        }
+    }
+
+    fn point(xi: f64, speed: f64, wetness: f64, normal_force: f64) -> OperatingPoint {
+        OperatingPoint {
+            creepage_x: xi,
+            speed,
+            wetness,
+            normal_force,
+            ..Default::default()
+        }
+    }
+
+    /// Largest difference of two films: separation in z_s, pressure in the peak nominal pressure, fluid
+    /// height in h_f0.
+    fn distance(a: &FilmSolution, b: &FilmSolution, c: &Case) -> f64 {
+        let z_s = c.micro.surface().z_s;
+        let p0 = c.p_n.iter().cloned().fold(0.0, f64::max);
+        let mut m: f64 = 0.0;
+        for k in 0..c.grid.len() {
+            m = m
+                .max((a.separation[k] - b.separation[k]).abs() / z_s)
+                .max((a.fluid_pressure[k] - b.fluid_pressure[k]).abs() / p0)
+                .max((a.fluid_height[k] - b.fluid_height[k]).abs() / c.inlet_film);
+        }
+        m
+    }
+
+    /// The film equations checked from the solution fields: complementarity, compatibility P17 and the
+    /// global volume balance (inflow = outflow + expelled, the sum of all cell balances).
+    fn check_equations(sol: &FilmSolution, c: &Case) {
+        for k in 0..c.grid.len() {
+            let (p, lf, lv) = (
+                sol.fluid_pressure[k],
+                sol.fluid_height[k],
+                sol.void_height[k],
+            );
+            assert!(p >= 0.0 && lf >= 0.0 && lf <= lv, "cell {k}: {p} {lf} {lv}");
+            if p > 0.0 {
+                assert!(lf == lv, "a pressurised cell is full (cell {k})");
+            } else {
+                assert_eq!(sol.separation[k], c.dry_d[k]);
+            }
+            let lhs = p * (1.0 - sol.area_fraction[k]) + sol.metal_load[k];
+            assert!(
+                (lhs - c.p_n[k]).abs() <= 1e-9 * c.p_n[k],
+                "P17 in cell {k}: {lhs} vs {}",
+                c.p_n[k]
+            );
+        }
+        let balance = sol.inflow - sol.outflow - sol.expelled;
+        assert!(
+            balance.abs() <= 1e-9 * sol.inflow,
+            "volume balance {balance:e} of {:e}",
+            sol.inflow
+        );
+        assert!(sol.balance_residual <= 1e-9, "{}", sol.balance_residual);
+    }
+
+    #[test]
+    fn newton_reaches_the_gauss_seidel_film() {
+        let cases = [
+            point(0.01, 30.0, 1.0, 100e3),
+            point(0.01, 30.0, 0.3, 100e3),
+            point(0.0, 30.0, 1.0, 100e3),
+            point(0.05, 30.0, 1.0, 100e3),
+            point(0.01, 1.0, 1.0, 100e3),
+            point(0.01, 100.0, 1.0, 100e3),
+            point(0.01, 30.0, 1.0, 10e3),
+            point(0.01, 30.0, 1.0, 200e3),
+        ];
+        for pt in cases {
+            let c = Case::new(&pt);
+            let newton = solve_film(&c.problem(1e-10, 100), None).unwrap();
+            // converged by Newton alone, without the Gauss–Seidel fallback
+            assert!(
+                newton.converged && newton.iterations < NEWTON_LIMIT,
+                "{pt:?}: {} iterations",
+                newton.iterations
+            );
+            check_equations(&newton, &c);
+            let pr = c.problem(1e-12, 100_000);
+            let reference = System::new(&pr)
+                .unwrap()
+                .gauss_seidel(vec![-1.0; c.grid.len()], 100_000)
+                .unwrap();
+            assert!(reference.converged, "reference at {pt:?}");
+            let dist = distance(&newton, &reference, &c);
+            assert!(dist < 1e-8, "{pt:?}: films differ by {dist:e}");
+            // the fluid carries part of the load somewhere, and many times fewer iterations than sweeps
+            assert!(newton.fluid_pressure.iter().any(|p| *p > 0.0));
+            assert!(
+                newton.iterations * 5 < reference.iterations,
+                "{pt:?}: {} Newton iterations, {} sweeps",
+                newton.iterations,
+                reference.iterations
+            );
+        }
+    }
+
+    #[test]
+    fn warm_start_from_a_neighbouring_temperature_field_converges_to_the_cold_solution() {
+        let pt = point(0.01, 30.0, 1.0, 100e3);
+        let before = Case::heated(&pt, 10.0);
+        let after = Case::heated(&pt, 20.0);
+        let old = solve_film(&before.problem(1e-10, 100), None).unwrap();
+        let cold = solve_film(&after.problem(1e-10, 100), None).unwrap();
+        let warm = solve_film(&after.problem(1e-10, 100), Some(&old)).unwrap();
+        assert!(cold.converged && warm.converged);
+        assert!(
+            distance(&old, &cold, &after) > 1e-6,
+            "the problems must differ"
+        );
+        assert!(distance(&warm, &cold, &after) < 1e-9);
+        assert!(warm.iterations < cold.iterations);
+        // restarting from the solution itself: one step, no change
+        let again = solve_film(&after.problem(1e-10, 100), Some(&warm)).unwrap();
+        assert_eq!(again.iterations, 1);
+        assert!(again.converged && distance(&again, &warm, &after) < 1e-10);
+    }
+
+    #[test]
+    fn an_unconverged_solve_says_so() {
+        let c = Case::new(&point(0.01, 30.0, 1.0, 100e3));
+        let sol = solve_film(&c.problem(1e-10, 2), None).unwrap();
+        assert_eq!(sol.iterations, 2);
+        assert!(!sol.converged && sol.residual > 1e-10);
+    }
+
+    #[test]
+    fn mismatched_field_lengths_are_an_error() {
+        let c = Case::new(&point(0.01, 30.0, 1.0, 100e3));
+        let mut pr = c.problem(1e-10, 100);
+        pr.dry_metal_load = &c.dry_load[1..];
+        assert!(solve_film(&pr, None).is_err());
+    }
 }

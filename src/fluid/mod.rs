@@ -1,6 +1,7 @@
 //! Interfacial fluid (paper §2.5, MODEL.md §8): cell geometry from the roughness statistics and the
 //! mass-conserving boundary/mixed-lubrication film solve.
 
+mod band;
 pub mod cell_geometry;
 pub mod film;
 
