@@ -279,10 +279,11 @@ pub struct SolverParams {
     pub relaxation: f64,
     /// Whether frictional heating is computed (false: T = T0 everywhere).
     pub heat: bool,
-    /// Convergence tolerance of the fluid film sweeps: largest change per sweep of the separation (in z_s)
-    /// and of the fluid height (in h_f0) [-].
+    /// Convergence tolerance of the fluid film solve: largest remaining (Newton) correction of the
+    /// separation (in z_s) and of the fluid height (in h_f0) [-].
     pub fluid_tolerance: f64,
-    /// Sweep limit of the fluid film solve.
+    /// Iteration limit of the fluid film solve (Newton iterations plus any Gauss–Seidel fallback sweeps;
+    /// the parameter keeps its historical name).
     pub max_fluid_sweeps: usize,
 }
 

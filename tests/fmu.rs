@@ -182,6 +182,7 @@ struct Fmi {
     get_string: unsafe extern "C" fn(Comp, *const u32, usize, *mut *const c_char) -> c_int,
     set_real: unsafe extern "C" fn(Comp, *const u32, usize, *const f64) -> c_int,
     set_integer: unsafe extern "C" fn(Comp, *const u32, usize, *const c_int) -> c_int,
+    set_boolean: unsafe extern "C" fn(Comp, *const u32, usize, *const c_int) -> c_int,
     set_string: unsafe extern "C" fn(Comp, *const u32, usize, *const *const c_char) -> c_int,
     get_fmu_state: unsafe extern "C" fn(Comp, *mut *mut c_void) -> c_int,
     set_fmu_state: unsafe extern "C" fn(Comp, *mut c_void) -> c_int,
@@ -285,6 +286,7 @@ fn fmi() -> &'static Fmi {
             get_string: sym(lib, "fmi2GetString"),
             set_real: sym(lib, "fmi2SetReal"),
             set_integer: sym(lib, "fmi2SetInteger"),
+            set_boolean: sym(lib, "fmi2SetBoolean"),
             set_string: sym(lib, "fmi2SetString"),
             get_fmu_state: sym(lib, "fmi2GetFMUstate"),
             set_fmu_state: sym(lib, "fmi2SetFMUstate"),
@@ -370,6 +372,10 @@ impl Fmu {
 
     fn set_int(&self, name: &str, x: i32) -> c_int {
         unsafe { (fmi().set_integer)(self.c, &vr(name), 1, &x) }
+    }
+
+    fn set_bool(&self, name: &str, x: bool) -> c_int {
+        unsafe { (fmi().set_boolean)(self.c, &vr(name), 1, &c_int::from(x)) }
     }
 
     fn get(&self, name: &str) -> f64 {
@@ -476,6 +482,9 @@ fn exports_every_fmi2_cosimulation_function() {
 #[test]
 fn life_cycle_outputs_belong_to_the_current_inputs() {
     let f = Fmu::new("life", None);
+    // cold solves: the outputs must be the library's bit for bit (warm starts agree only to the solver
+    // tolerance; the FMU's unit tests check those)
+    assert_eq!(f.set_bool("warm_start", false), OK);
     assert_eq!(f.set("creepage_longitudinal", 0.002), OK);
     assert_eq!(
         f.init(),
@@ -845,6 +854,7 @@ fn two_instances_with_different_parameters_run_side_by_side() {
         assert_eq!(f.set("roughness", roughness), OK);
         assert_eq!(f.set("bulk_temperature", bulk), OK);
         assert_eq!(f.set_int("mode", 2), OK);
+        assert_eq!(f.set_bool("warm_start", false), OK);
         assert_eq!(f.init(), OK);
         f
     };
