@@ -20,6 +20,9 @@ use std::f64::consts::PI;
 const RELATIVE_TOLERANCE: f64 = 1e-9;
 /// Panel budget of one lateral integral.
 const MAX_PANELS: usize = 400;
+/// Part of the tolerance below which a lateral interval, or its tail, counts as negligible and is skipped
+/// (1e-15 of the grid's coefficient scale for the table's tolerance).
+const NEGLIGIBLE_FRACTION: f64 = 1e-6;
 
 /// One body as a half-space whose surface moves at speed v in −x under a fixed heat source.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -32,9 +35,10 @@ pub struct MovingHalfSpace {
     diffusivity: f64,
 }
 
-/// ζ + r with r = sqrt(ζ² + η²), without cancellation for ζ < 0 (there ζ + r = η²/(r − ζ)).
+/// ζ + r with r = sqrt(ζ² + η²), without cancellation for ζ < 0 (there ζ + r = η²/(r − ζ)). Offsets are
+/// contact-sized lengths, so ζ² + η² neither overflows nor underflows (no need for the slower `hypot`).
 fn zeta_plus_r(zeta: f64, eta: f64) -> f64 {
-    let r = zeta.hypot(eta);
+    let r = (zeta * zeta + eta * eta).sqrt();
     if zeta >= 0.0 {
         r + zeta
     } else {
@@ -81,6 +85,13 @@ impl MovingHalfSpace {
     }
 
     /// ∫_{ηa}^{ηb} ∫_{ζ1}^{ζ2} exp(−p(r + ζ))/r dζ dη for 0 ≤ ηa < ηb [m], to absolute tolerance `tol` [m].
+    ///
+    /// The lateral integrand E1(p(r1 + ζ1)) − E1(p(r2 + ζ2)) lies between 0 and E1(p(r1 + ζ1)), which falls
+    /// with |η| (ζ + r grows with |η|). Beyond the η where p(r1 + ζ1) reaches z* = ln((ηb − ηa)/ε) the
+    /// rest of the interval contributes less than (ηb − ηa)·e^(−z*)/z* ≤ ε = 1e-6·tol (E1(z) < e^(−z)/z,
+    /// A&S 5.1.20), so the integral stops there, and an interval that starts beyond it is zero without a
+    /// single integrand evaluation: upstream of the source at high Péclet number and laterally outside
+    /// the thermal wake most offsets are skipped this way.
     fn lateral_interval(
         &self,
         zeta1: f64,
@@ -90,46 +101,66 @@ impl MovingHalfSpace {
         tol: f64,
     ) -> Quadrature {
         let p = self.decay_rate();
-        // ζ + r grows with |η|, so the integrand is at most E1(p(ζ1 + r1)) at η = ηa.
-        let bound = (eta_b - eta_a) * exp_integral_e1(p * zeta_plus_r(zeta1, eta_a));
-        if bound <= 1e-3 * tol {
+        let negligible = NEGLIGIBLE_FRACTION * tol;
+        let z_cut = ((eta_b - eta_a) / negligible).ln();
+        // p(r1 + ζ1) = z* at η² = c(c − 2ζ1), c = z*/p; at most 2pζ1 > z* for ζ1 > 0 when c < 2ζ1
+        let c = z_cut / p;
+        let eta_cut = if z_cut < 1.0 {
+            f64::INFINITY
+        } else {
+            (c * (c - 2.0 * zeta1)).max(0.0).sqrt()
+        };
+        if eta_cut <= eta_a {
             return Quadrature {
                 value: 0.0,
-                error: bound,
+                error: negligible,
                 panels: 0,
                 converged: true,
             };
         }
+        let (eta_end, cut_error) = if eta_cut < eta_b {
+            (eta_cut, negligible)
+        } else {
+            (eta_b, 0.0)
+        };
         // With the origin on the interval's edge, each side of ζ = 0 adds ln(1/η) (the 1/r singularity):
-        // subtract s·ln(η/ηb), whose integral over [0, ηb] is −s·ηb.
+        // subtract s·ln(η/η_end), whose integral over [0, η_end] is −s·η_end.
         let strength = if eta_a == 0.0 && zeta1 <= 0.0 && zeta2 >= 0.0 {
             f64::from(u8::from(zeta1 < 0.0) + u8::from(zeta2 > 0.0))
         } else {
             0.0
         };
-        let mut breaks = vec![eta_a, eta_b];
-        for zeta in [zeta1, zeta2].into_iter().filter(|z| *z < 0.0) {
-            // Wake half-width: p(r + ζ) = 1 at η = sqrt(2|ζ|/p + 1/p²).
-            let width = (2.0 * zeta.abs() / p + 1.0 / (p * p)).sqrt();
-            breaks.extend(
-                [1.0, 3.0, 8.0]
-                    .iter()
-                    .map(|m| m * width)
-                    .filter(|eta| *eta > eta_a && *eta < eta_b),
-            );
+        // Break points at the wake's structure behind each edge (half-width sqrt(2|ζ|/p + 1/p²), where
+        // p(r + ζ) = 1), merged when within a factor 1.5 of each other: the adaptive bisection resolves
+        // the rest.
+        let mut candidates: Vec<f64> = [zeta1, zeta2]
+            .into_iter()
+            .filter(|z| *z < 0.0)
+            .flat_map(|zeta| {
+                let width = (2.0 * zeta.abs() / p + 1.0 / (p * p)).sqrt();
+                [width, 3.0 * width, 8.0 * width]
+            })
+            .filter(|eta| *eta > eta_a && *eta < eta_end)
+            .collect();
+        candidates.sort_by(f64::total_cmp);
+        let mut breaks = vec![eta_a];
+        for eta in candidates {
+            if eta > 1.5 * breaks[breaks.len() - 1] {
+                breaks.push(eta);
+            }
         }
-        breaks.sort_by(f64::total_cmp);
-        breaks.dedup();
+        breaks.push(eta_end);
         let integrand = |eta: f64| {
             let regular = self.along_x(zeta1, zeta2, eta);
             if strength > 0.0 {
-                regular + strength * (eta / eta_b).ln()
+                regular + strength * (eta / eta_end).ln()
             } else {
                 regular
             }
         };
         let mut q = integrate_adaptive(integrand, &breaks, tol, MAX_PANELS);
-        q.value += strength * eta_b;
+        q.value += strength * eta_end;
+        q.error += cut_error;
         q
     }
 
@@ -148,6 +179,19 @@ impl MovingHalfSpace {
         check_positive("rectangle length zeta2 - zeta1", zeta[1] - zeta[0], "m")?;
         check_positive("rectangle width eta2 - eta1", eta[1] - eta[0], "m")?;
         check_positive("quadrature tolerance", tol, "K·m²/W")?;
+        let q = self.rectangle(zeta, eta, tol);
+        if !q.value.is_finite() {
+            return Err(Error::Numerical {
+                stage: "thermal influence coefficient",
+                reason: format!("non-finite rectangle integral for offsets {zeta:?} x {eta:?}"),
+            });
+        }
+        Ok(q)
+    }
+
+    /// [`Self::offset_rectangle`] for checked input (finite, ζ1 < ζ2, η1 < η2, tol > 0). A result with no
+    /// panel is a rectangle skipped as negligible (see [`Self::lateral_interval`]).
+    fn rectangle(&self, zeta: [f64; 2], eta: [f64; 2], tol: f64) -> Quadrature {
         let scale = 1.0 / (2.0 * PI * self.conductivity);
         let tol_m = tol / scale;
         let [z1, z2] = zeta;
@@ -174,13 +218,7 @@ impl MovingHalfSpace {
         };
         q.value *= scale;
         q.error *= scale;
-        if !q.value.is_finite() {
-            return Err(Error::Numerical {
-                stage: "thermal influence coefficient",
-                reason: format!("non-finite rectangle integral for offsets {zeta:?} x {eta:?}"),
-            });
-        }
-        Ok(q)
+        q
     }
 }
 
@@ -204,7 +242,9 @@ impl InfluenceTable {
     /// Coefficients of `body` for every offset of an nx × ny grid of cells h_x × h_y [m]: temperature rise
     /// at a cell centre per unit flux density [W/m²] on a whole source cell (MODEL.md §7). Each coefficient
     /// is accurate to 1e-9 of the grid's coefficient scale h/sqrt(1 + p·h)/(2πλ) (h = min(h_x, h_y));
-    /// an integral that misses this within its panel budget is an error.
+    /// an integral that misses this within its panel budget is an error. Offsets whose rigorous bound is
+    /// below 1e-15 of that scale (upstream at high Péclet number, laterally outside the wake) are exactly
+    /// zero and cost no quadrature.
     pub fn new(body: &MovingHalfSpace, nx: usize, ny: usize, hx: f64, hy: f64) -> Result<Self> {
         if nx == 0 || ny == 0 {
             return Err(Error::out_of_range(
@@ -219,32 +259,44 @@ impl InfluenceTable {
         let scale = h / (1.0 + body.decay_rate() * h).sqrt() / (2.0 * PI * body.conductivity);
         let tol = RELATIVE_TOLERANCE * scale;
         let width = 2 * nx - 1;
-        let mut values = Vec::with_capacity(width * ny);
+        let mut values = vec![0.0; width * ny];
         let mut error = 0.0_f64;
         let mut panels = 0;
+        // A skipped offset (no panel: its rigorous bound is negligible) ends its row: the bound only grows
+        // more negligible upstream (larger Δi, larger ζ1 + r); a row skipped from its most downstream offset
+        // on ends the table (larger Δj, larger |η| on the same interval length).
         for dj in 0..ny {
             let eta = dj as f64 * hy;
+            let mut row_skipped = true;
             for di in 0..width {
                 let zeta = (di as f64 - (nx - 1) as f64) * hx;
-                let q = body.offset_rectangle(
+                let q = body.rectangle(
                     [zeta - 0.5 * hx, zeta + 0.5 * hx],
                     [eta - 0.5 * hy, eta + 0.5 * hy],
                     tol,
-                )?;
-                if !q.converged {
+                );
+                if q.panels == 0 {
+                    break;
+                }
+                row_skipped = false;
+                if !q.converged || !q.value.is_finite() {
                     return Err(Error::Numerical {
                         stage: "thermal influence coefficient",
                         reason: format!(
-                            "quadrature for offset ({}, {dj}) unconverged: error estimate {:.3e} > tolerance {tol:.3e} after {} panels",
+                            "quadrature for offset ({}, {dj}) unconverged: value {:.3e}, error estimate {:.3e} > tolerance {tol:.3e} after {} panels",
                             di as isize - (nx - 1) as isize,
+                            q.value,
                             q.error,
                             q.panels
                         ),
                     });
                 }
-                values.push(q.value);
+                values[di + width * dj] = q.value;
                 error = error.max(q.error);
                 panels += q.panels;
+            }
+            if row_skipped {
+                break;
             }
         }
         Ok(Self {
@@ -269,6 +321,11 @@ impl InfluenceTable {
             return None;
         }
         Some(self.values[(di + nx - 1) as usize + (2 * self.nx - 1) * dj.unsigned_abs()])
+    }
+
+    /// Grid size (nx, ny) the table was built for.
+    pub fn size(&self) -> (usize, usize) {
+        (self.nx, self.ny)
     }
 
     /// Largest estimated absolute quadrature error of a coefficient [K·m²/W].
