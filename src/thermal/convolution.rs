@@ -262,3 +262,91 @@ impl StripSolver {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::Material;
+    use crate::thermal::MovingHalfSpace;
+
+    fn table(grid: &ContactGrid, v: f64) -> InfluenceTable {
+        InfluenceTable::for_grid(
+            &MovingHalfSpace::new(v, &Material::default()).unwrap(),
+            grid,
+        )
+        .unwrap()
+    }
+
+    /// A rough test vector: no structure the kernel could hide an indexing error in.
+    fn rough(n: usize) -> Vec<f64> {
+        (0..n).map(|k| (k as f64 * 1.7).sin() + 0.3).collect()
+    }
+
+    #[test]
+    fn convolution_equals_the_dense_matrix_product() {
+        // Unequal nx, ny so that rows and columns cannot be confused; low and high Péclet number.
+        let grid = ContactGrid::new(5.879e-3, 10.54e-3, 17, 12);
+        let layout = StripLayout::new(&grid).unwrap();
+        let x = rough(grid.len());
+        for (vw, vr) in [(0.1, 0.09), (30.0, 28.0), (1e-6, 1e-6)] {
+            let (tw, tr) = (table(&grid, vw), table(&grid, vr));
+            let kernel = OffsetKernel::sum(&layout, &[&tw, &tr]).unwrap();
+            let dense = tw.matrix(&grid).unwrap() + tr.matrix(&grid).unwrap();
+            let mut y = vec![0.0; grid.len()];
+            kernel.apply(&layout, &x, &mut y);
+            let reference = &dense * faer::ColRef::from_slice(&x);
+            let ymax = reference.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            for (k, (a, b)) in y.iter().zip(reference.iter()).enumerate() {
+                assert!(
+                    (a - b).abs() <= 1e-13 * ymax,
+                    "v = {vw}: cell {k}: {a} vs {b}"
+                );
+            }
+            // Stored offsets: all of them at rest, only the wake at 30 m/s.
+            let all = (2 * grid.nx - 1) * grid.ny;
+            if vw < 1e-3 {
+                assert_eq!(kernel.stored(), all);
+            } else if vw > 1.0 {
+                assert!(kernel.stored() < all / 5, "{} of {all}", kernel.stored());
+            }
+        }
+    }
+
+    #[test]
+    fn strip_solver_inverts_every_strip_block() {
+        // At rest the strip matrix is a full symmetric Toeplitz matrix, at 30 m/s nearly lower triangular.
+        let grid = ContactGrid::new(5.879e-3, 10.54e-3, 24, 9);
+        let layout = StripLayout::new(&grid).unwrap();
+        for v in [1e-6, 0.1, 30.0] {
+            let t = table(&grid, v);
+            let kernel = OffsetKernel::sum(&layout, &[&t]).unwrap();
+            let solver = StripSolver::new(&kernel, &layout).unwrap();
+            let b = rough(grid.len());
+            let mut x = b.clone();
+            solver.apply(&layout, &mut x);
+            let dense = t.matrix(&grid).unwrap();
+            for strip in layout.strips() {
+                for k in strip.clone() {
+                    let tx: f64 = strip.clone().map(|l| dense[(k, l)] * x[l]).sum();
+                    assert!(
+                        (tx - b[k]).abs() < 1e-12,
+                        "v = {v}: cell {k}: {tx} vs {}",
+                        b[k]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn mismatched_tables_are_an_error() {
+        let grid = ContactGrid::new(5.879e-3, 10.54e-3, 10, 8);
+        let other = ContactGrid::new(5.879e-3, 10.54e-3, 12, 8);
+        let layout = StripLayout::new(&grid).unwrap();
+        let t = table(&grid, 1.0);
+        let u = table(&other, 1.0);
+        assert!(OffsetKernel::sum(&layout, &[&t, &u]).is_err());
+        assert!(OffsetKernel::sum(&layout, &[&u]).is_err());
+        assert!(OffsetKernel::sum(&layout, &[]).is_err());
+    }
+}

@@ -13,7 +13,6 @@ use super::quadrature::{Quadrature, integrate_adaptive};
 use crate::contact::ContactGrid;
 use crate::error::{Error, Result, check_finite, check_positive};
 use crate::params::Material;
-use faer::Mat;
 use std::f64::consts::PI;
 
 /// Relative accuracy asked of each influence coefficient (relative to the coefficient scale of the grid).
@@ -338,9 +337,10 @@ impl InfluenceTable {
         self.panels
     }
 
-    /// The N × N influence matrix over the active cells of `grid` (which must be the grid the table was
+    /// The dense N × N influence matrix over the active cells of `grid` (which must be the grid the table was
     /// built for): G[k, l] = temperature rise at cell k per unit flux density on cell l [K·m²/W].
-    pub fn matrix(&self, grid: &ContactGrid) -> Result<Mat<f64>> {
+    #[cfg(test)]
+    pub(crate) fn matrix(&self, grid: &ContactGrid) -> Result<faer::Mat<f64>> {
         if grid.nx != self.nx || grid.ny != self.ny {
             return Err(Error::Numerical {
                 stage: "thermal influence matrix",
@@ -353,7 +353,7 @@ impl InfluenceTable {
         let cells = &grid.cells;
         let width = 2 * self.nx - 1;
         let offset = self.nx - 1;
-        Ok(Mat::from_fn(cells.len(), cells.len(), |k, l| {
+        Ok(faer::Mat::from_fn(cells.len(), cells.len(), |k, l| {
             let (field, source) = (&cells[k], &cells[l]);
             let di = field.i + offset - source.i;
             let dj = field.j.abs_diff(source.j);
@@ -574,6 +574,55 @@ mod tests {
         }
         assert_eq!(table.coefficient(9, 0), None);
         assert_eq!(table.coefficient(0, 1), table.coefficient(0, -1));
+    }
+
+    #[test]
+    fn skipping_negligible_offsets_changes_no_coefficient() {
+        // The default Hertz grid (MODEL.md §2, 30 × 30). Reference: every offset integrated by
+        // offset_rectangle with a 1000 times tighter tolerance, whose own negligible cut (1e-6 of its
+        // tolerance) lies at 1e-18 of the coefficient scale, far below the table's 1e-15.
+        let (a, b) = (5.879e-3, 10.54e-3);
+        let (n, hx, hy) = (30, 2.0 * a / 30.0, 2.0 * b / 30.0);
+        for v in [0.1, 1.0, 30.0, 100.0] {
+            let body = MovingHalfSpace::new(v, &steel()).unwrap();
+            let table = InfluenceTable::new(&body, n, n, hx, hy).unwrap();
+            let h = hx.min(hy);
+            let scale = h / (1.0 + body.decay_rate() * h).sqrt() / (2.0 * PI * 50.0);
+            let mut skipped = 0;
+            for dj in 0..n as isize {
+                for di in 1 - n as isize..n as isize {
+                    let (zeta, eta) = (di as f64 * hx, dj as f64 * hy);
+                    let reference = body
+                        .offset_rectangle(
+                            [zeta - 0.5 * hx, zeta + 0.5 * hx],
+                            [eta - 0.5 * hy, eta + 0.5 * hy],
+                            1e-12 * scale,
+                        )
+                        .unwrap()
+                        .value;
+                    let fast = table.coefficient(di, dj).unwrap();
+                    if fast == 0.0 {
+                        skipped += 1;
+                        assert!(
+                            reference <= 1e-15 * scale,
+                            "v = {v}: skipped ({di}, {dj}) is {:.2e} of the scale",
+                            reference / scale
+                        );
+                    } else {
+                        assert!(
+                            (fast - reference).abs() <= 1e-9 * scale,
+                            "v = {v}: ({di}, {dj}) {fast} vs {reference}"
+                        );
+                    }
+                }
+            }
+            // Upstream offsets (half the table) and the lateral ones outside the wake are skipped.
+            let expected = if v < 1.0 { 800 } else { 1500 };
+            assert!(
+                skipped > expected,
+                "v = {v}: only {skipped} offsets skipped"
+            );
+        }
     }
 
     #[test]

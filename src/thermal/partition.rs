@@ -445,5 +445,107 @@ mod tests {
         assert!(model.solve(&q).is_err());
         assert!(model.one_body_rise(Body::Rail, &q).is_err());
         assert!(model.solve(&[]).is_err());
+        let good = model.solve(&vec![1e9; grid.len()]).unwrap();
+        let short = HeatSolution {
+            q_wheel: vec![0.0; 3],
+            ..good.clone()
+        };
+        assert!(model.solve_from(&vec![1e9; grid.len()], &short).is_err());
+        assert!(model.solve_from(&q, &good).is_err());
+    }
+
+    /// Frictional power concentrated in the trailing half, as under partial slip [W/m²].
+    fn trailing_flux(grid: &ContactGrid) -> Vec<f64> {
+        grid.cells
+            .iter()
+            .map(|c| {
+                let p = (1.0 - (c.x / grid.a).powi(2) - (c.y / grid.b).powi(2)).max(0.0);
+                1e9 * p.sqrt() * (-c.x / grid.a).max(0.0)
+            })
+            .collect()
+    }
+
+    fn max_abs(v: impl IntoIterator<Item = f64>) -> f64 {
+        v.into_iter().fold(0.0_f64, |m, x| m.max(x.abs()))
+    }
+
+    /// The slow reference path: dense G_w, G_r from the same influence tables and a dense LU of G_w + G_r
+    /// (the implementation before the convolution and GMRES): (q_w, ΔT).
+    fn dense_reference(grid: &ContactGrid, vw: f64, vr: f64, q: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        use faer::linalg::solvers::Solve;
+        let table = |v| InfluenceTable::for_grid(&MovingHalfSpace::new(v, &steel()).unwrap(), grid);
+        let gw = table(vw).unwrap().matrix(grid).unwrap();
+        let gr = table(vr).unwrap().matrix(grid).unwrap();
+        let q = faer::ColRef::from_slice(q);
+        let q_wheel = (&gw + &gr).partial_piv_lu().solve(&gr * q);
+        let rise = &gw * &q_wheel;
+        (
+            q_wheel.iter().copied().collect(),
+            rise.iter().copied().collect(),
+        )
+    }
+
+    #[test]
+    fn fast_partition_matches_the_dense_reference() {
+        // Default Hertz grid (30 × 30, MODEL.md §2), v_w,r = V(1 ± ξ/2) (MODEL.md §1).
+        let grid = hertz_grid(30);
+        for v in [0.1, 1.0, 30.0, 100.0] {
+            for xi in [0.0, 0.02, -0.1] {
+                let (vw, vr) = (v * (1.0 + 0.5 * xi), v * (1.0 - 0.5 * xi));
+                let model = HeatModel::new(&grid, vw, vr, &steel()).unwrap();
+                for q in [smooth_flux(&grid), trailing_flux(&grid)] {
+                    let s = model.solve(&q).unwrap();
+                    assert!(
+                        s.converged && s.residual <= 1e-12,
+                        "V = {v}, ξ = {xi}: {} iterations, residual {:.2e}",
+                        s.iterations,
+                        s.residual
+                    );
+                    let (q_wheel, rise) = dense_reference(&grid, vw, vr, &q);
+                    let (qmax, tmax) = (max_abs(q_wheel.clone()), max_abs(rise.clone()));
+                    let dq = max_abs(s.q_wheel.iter().zip(&q_wheel).map(|(a, b)| a - b));
+                    let dt = max_abs(s.temperature_rise.iter().zip(&rise).map(|(a, b)| a - b));
+                    assert!(dq <= 1e-9 * qmax, "V = {v}, ξ = {xi}: q_w off by {dq:.2e}");
+                    assert!(dt <= 1e-9 * tmax, "V = {v}, ξ = {xi}: ΔT off by {dt:.2e}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn solution_reports_its_residual_and_warm_starts() {
+        let grid = hertz_grid(30);
+        for v in [0.1, 30.0] {
+            let model = HeatModel::new(&grid, v * 1.05, v * 0.95, &steel()).unwrap();
+            let q0 = trailing_flux(&grid);
+            let cold0 = model.solve(&q0).unwrap();
+            assert!(cold0.converged && cold0.iterations > 0);
+            // The mismatch is the temperature difference of the two bodies, recomputed here.
+            let wheel = model.one_body_rise(Body::Wheel, &cold0.q_wheel).unwrap();
+            let rail = model.one_body_rise(Body::Rail, &cold0.q_rail).unwrap();
+            let mismatch = max_abs(wheel.iter().zip(&rail).map(|(w, r)| w - r));
+            let tmax = max_abs(cold0.temperature_rise.clone());
+            assert!((mismatch - cold0.mismatch).abs() <= 1e-12 * tmax);
+            assert!(cold0.mismatch <= 1e-10 * tmax, "{}", cold0.mismatch);
+            // A nearby flux (the next outer iteration): same solution, fewer iterations.
+            let q1: Vec<f64> = q0
+                .iter()
+                .zip(smooth_flux(&grid))
+                .map(|(a, b)| a + 1e-3 * b)
+                .collect();
+            let cold = model.solve(&q1).unwrap();
+            let warm = model.solve_from(&q1, &cold0).unwrap();
+            assert!(
+                warm.converged
+                    && warm.iterations <= cold.iterations
+                    && (v > 1.0 || warm.iterations < cold.iterations),
+                "v = {v}: {} warm vs {} cold iterations",
+                warm.iterations,
+                cold.iterations
+            );
+            let qmax = max_abs(cold.q_wheel.clone());
+            let dq = max_abs(warm.q_wheel.iter().zip(&cold.q_wheel).map(|(a, b)| a - b));
+            assert!(dq <= 1e-10 * qmax, "v = {v}: {dq:.2e}");
+        }
     }
 }
