@@ -83,11 +83,77 @@ impl StripLayout {
     }
 }
 
-/// The non-zero coefficients of one lateral offset Δj: G(Δi, Δj) for Δi = first, first + 1, ….
+/// Field cells handled together by [`KernelRow::correlate`] (their sums stay in registers).
+const BLOCK: usize = 8;
+
+/// The non-zero coefficients of one lateral offset Δj, G(Δi, Δj) for Δi = first … first + len − 1, stored
+/// in reverse order between BLOCK zeros on either side: `reversed[BLOCK + first + len − 1 − Δi]`.
 #[derive(Debug, Clone, PartialEq)]
 struct KernelRow {
     first: isize,
-    values: Vec<f64>,
+    len: usize,
+    reversed: Vec<f64>,
+}
+
+impl KernelRow {
+    fn new(first: isize, values: &[f64]) -> Self {
+        let mut reversed = vec![0.0; values.len() + 2 * BLOCK];
+        for (r, v) in reversed[BLOCK..].iter_mut().zip(values.iter().rev()) {
+            *r = *v;
+        }
+        Self {
+            first,
+            len: values.len(),
+            reversed,
+        }
+    }
+
+    fn coefficient(&self, di: isize) -> Option<f64> {
+        let k = self.first + self.len as isize - 1 - di;
+        (0..self.len as isize)
+            .contains(&k)
+            .then(|| self.reversed[BLOCK + k as usize])
+    }
+
+    /// out[m] += Σ_m' G(shift − m + m')·input[m'] for a field strip `out` and a source strip `input`
+    /// (cells counted from each strip's leading cell, shift = lead_f − lead_s, so Δi = shift − m + m').
+    ///
+    /// BLOCK consecutive field cells at a time: for each source cell, their coefficients are BLOCK
+    /// consecutive entries of the reversed row (the zero padding covers the pairs outside the row), so
+    /// the sums stay in registers and vectorise.
+    fn correlate(&self, shift: isize, input: &[f64], out: &mut [f64]) {
+        let (f_len, s_len) = (out.len() as isize, input.len() as isize);
+        let (lo_off, hi_off) = (
+            self.first - shift,
+            self.first - shift + self.len as isize - 1,
+        );
+        let end = self.first + self.len as isize - 1 + BLOCK as isize;
+        for m0 in (0..f_len).step_by(BLOCK) {
+            let block = (f_len - m0).min(BLOCK as isize);
+            let lo = (m0 + lo_off).max(0);
+            let hi = (m0 + block - 1 + hi_off).min(s_len - 1);
+            if lo > hi {
+                continue;
+            }
+            // source cell hi − t meets the window starting t entries after that of source cell hi
+            let n = (hi - lo + 1) as usize;
+            let k = (end - shift + m0 - hi) as usize;
+            let coefficients = &self.reversed[k..k + n + BLOCK - 1];
+            let mut sums = [0.0; BLOCK];
+            for (x, c) in input[lo as usize..=hi as usize]
+                .iter()
+                .rev()
+                .zip(coefficients.windows(BLOCK))
+            {
+                for (s, c) in sums.iter_mut().zip(c) {
+                    *s += c * x;
+                }
+            }
+            for (o, s) in out[m0 as usize..(m0 + block) as usize].iter_mut().zip(sums) {
+                *o += s;
+            }
+        }
+    }
 }
 
 /// An offset kernel G(Δi, |Δj|) (a sum of influence tables) on the offsets where it is non-zero.
@@ -128,10 +194,10 @@ impl OffsetKernel {
             };
             let nonzero: Vec<isize> = (-reach..=reach).filter(|&di| value(di) != 0.0).collect();
             match (nonzero.first(), nonzero.last()) {
-                (Some(&first), Some(&last)) => rows.push(KernelRow {
-                    first,
-                    values: (first..=last).map(value).collect(),
-                }),
+                (Some(&first), Some(&last)) => {
+                    let values: Vec<f64> = (first..=last).map(value).collect();
+                    rows.push(KernelRow::new(first, &values));
+                }
                 _ => break,
             }
         }
@@ -142,49 +208,29 @@ impl OffsetKernel {
     pub fn coefficient(&self, di: isize, dj: isize) -> f64 {
         self.rows
             .get(dj.unsigned_abs())
-            .and_then(|row| {
-                usize::try_from(di - row.first)
-                    .ok()
-                    .and_then(|k| row.values.get(k))
-            })
-            .copied()
+            .and_then(|row| row.coefficient(di))
             .unwrap_or(0.0)
     }
 
     /// Number of stored coefficients (a cost measure of [`Self::apply`]).
     pub fn stored(&self) -> usize {
-        self.rows.iter().map(|r| r.values.len()).sum()
+        self.rows.iter().map(|r| r.len).sum()
     }
 
-    /// y = G·x over the active cells of `layout` (x, y: one value per cell, in the grid's cell order).
-    ///
-    /// Field strip f and source strip s at lateral offset Δj, field cell m and source cell m' (counted
-    /// from each strip's leading cell), have Δi = (lead_f − m) − (lead_s − m') = shift − d with
-    /// shift = lead_f − lead_s and d = m − m'; for each d with a non-zero coefficient the strip pair
-    /// contributes one contiguous multiply–add y[m] += G(shift − d, Δj)·x[m − d].
+    /// y = G·x over the active cells of `layout` (x, y: one value per cell, in the grid's cell order):
+    /// for field strip f and source strip s at lateral offset Δj, field cell m and source cell m' (counted
+    /// from each strip's leading cell) are Δi = (lead_f − m) − (lead_s − m') apart.
     pub fn apply(&self, layout: &StripLayout, x: &[f64], y: &mut [f64]) {
         y.fill(0.0);
         for field in &layout.spans {
             let out = &mut y[field.start..field.start + field.len];
             for source in &layout.spans {
-                let Some(row) = self.rows.get(field.row.abs_diff(source.row)) else {
-                    continue;
-                };
-                let input = &x[source.start..source.start + source.len];
-                let shift = field.lead as isize - source.lead as isize;
-                let last = row.first + row.values.len() as isize - 1;
-                let (f_len, s_len) = (field.len as isize, source.len as isize);
-                let d_lo = (shift - last).max(1 - s_len);
-                let d_hi = (shift - row.first).min(f_len - 1);
-                for d in d_lo..=d_hi {
-                    let c = row.values[(shift - d - row.first) as usize];
-                    let m0 = d.max(0);
-                    let m1 = f_len.min(s_len + d);
-                    let dst = &mut out[m0 as usize..m1 as usize];
-                    let src = &input[(m0 - d) as usize..(m1 - d) as usize];
-                    for (yy, xx) in dst.iter_mut().zip(src) {
-                        *yy += c * xx;
-                    }
+                if let Some(row) = self.rows.get(field.row.abs_diff(source.row)) {
+                    row.correlate(
+                        field.lead as isize - source.lead as isize,
+                        &x[source.start..source.start + source.len],
+                        out,
+                    );
                 }
             }
         }
@@ -199,15 +245,18 @@ const PIVOT_RATIO_MIN: f64 = 1e-13;
 /// wake of a source hardly reaches the neighbouring strips.
 ///
 /// Within a strip the matrix is Toeplitz, T[m][m'] = G(m' − m, 0) (cells m counted from the leading one),
-/// so every strip's matrix is a leading block of the longest strip's T; one LU factorisation of that T
-/// without row exchanges (T = L·U, whose leading blocks factorise the leading blocks of T) serves all
-/// strips.
+/// so every strip's matrix is a leading block of the longest strip's T. Its LU factorisation without row
+/// exchanges, T = L·U, and the triangular inverses L⁻¹, U⁻¹ have the same property: the leading L × L
+/// blocks of L⁻¹ and U⁻¹ invert the strip's factors. So one factorisation serves all strips, and each
+/// solve is two triangular matrix–vector products (column by column, which vectorises).
 #[derive(Debug, Clone, PartialEq)]
 pub struct StripSolver {
     /// Order n of the factorised T (the longest strip).
     order: usize,
-    /// L (unit diagonal, below) and U (on and above the diagonal), row-major n × n.
-    lu: Vec<f64>,
+    /// L⁻¹ (unit lower triangular), column-major n × n.
+    lower_inverse: Vec<f64>,
+    /// U⁻¹ (upper triangular), column-major n × n.
+    upper_inverse: Vec<f64>,
 }
 
 impl StripSolver {
@@ -215,6 +264,7 @@ impl StripSolver {
     /// is not finite or below 1e-13 of G(0, 0).
     pub fn new(kernel: &OffsetKernel, layout: &StripLayout) -> Result<Self> {
         let n = layout.longest_strip();
+        // row-major T, overwritten by L (below the diagonal) and U
         let mut lu: Vec<f64> = (0..n * n)
             .map(|k| kernel.coefficient((k % n) as isize - (k / n) as isize, 0))
             .collect();
@@ -239,25 +289,49 @@ impl StripSolver {
                 }
             }
         }
-        Ok(Self { order: n, lu })
+        // column j of L⁻¹ by forward substitution on e_j, of U⁻¹ by back substitution
+        let mut lower_inverse = vec![0.0; n * n];
+        let mut upper_inverse = vec![0.0; n * n];
+        for j in 0..n {
+            let col = &mut lower_inverse[j * n..(j + 1) * n];
+            col[j] = 1.0;
+            for i in j + 1..n {
+                col[i] = -(j..i).map(|k| lu[i * n + k] * col[k]).sum::<f64>();
+            }
+            let col = &mut upper_inverse[j * n..(j + 1) * n];
+            col[j] = 1.0 / lu[j * n + j];
+            for i in (0..j).rev() {
+                col[i] = -(i + 1..=j).map(|k| lu[i * n + k] * col[k]).sum::<f64>() / lu[i * n + i];
+            }
+        }
+        Ok(Self {
+            order: n,
+            lower_inverse,
+            upper_inverse,
+        })
     }
 
-    /// v ← T⁻¹·v strip by strip (forward substitution with L, back substitution with U on each strip's
-    /// leading block).
+    /// v ← T⁻¹·v strip by strip: v ← U⁻¹·(L⁻¹·v) with each strip's leading blocks.
     pub fn apply(&self, layout: &StripLayout, v: &mut [f64]) {
         let n = self.order;
+        let mut work = vec![0.0; n];
         for strip in layout.strips() {
             let v = &mut v[strip];
             let len = v.len();
-            for i in 1..len {
-                let row = &self.lu[i * n..i * n + i];
-                let dot: f64 = row.iter().zip(&v[..i]).map(|(l, x)| l * x).sum();
-                v[i] -= dot;
+            let work = &mut work[..len];
+            work.fill(0.0);
+            for (k, x) in v.iter().enumerate() {
+                let col = &self.lower_inverse[k * n + k..k * n + len];
+                for (w, l) in work[k..].iter_mut().zip(col) {
+                    *w += l * x;
+                }
             }
-            for i in (0..len).rev() {
-                let row = &self.lu[i * n + i + 1..i * n + len];
-                let dot: f64 = row.iter().zip(&v[i + 1..]).map(|(u, x)| u * x).sum();
-                v[i] = (v[i] - dot) / self.lu[i * n + i];
+            v.fill(0.0);
+            for (k, x) in work.iter().enumerate() {
+                let col = &self.upper_inverse[k * n..k * n + k + 1];
+                for (y, u) in v[..=k].iter_mut().zip(col) {
+                    *y += u * x;
+                }
             }
         }
     }
