@@ -9,7 +9,7 @@
 //! with the 1/r singularity's logarithm subtracted and integrated analytically.
 
 use super::expint::exp_integral_e1;
-use super::quadrature::{Quadrature, integrate_adaptive};
+use super::quadrature::{Quadrature, integrate_adaptive, kronrod_nodes, kronrod_sum};
 use crate::contact::ContactGrid;
 use crate::error::{Error, Result, check_finite, check_positive};
 use crate::params::Material;
@@ -42,6 +42,17 @@ fn zeta_plus_r(zeta: f64, eta: f64) -> f64 {
         r + zeta
     } else {
         eta * eta / (r - zeta)
+    }
+}
+
+/// Number of sides of ζ = 0 that a lateral interval starting at η = 0 has next to the 1/r singularity
+/// (each adds ln(1/η) to the lateral integrand; subtracted as s·ln(η/η_end), whose integral over
+/// [0, η_end] is −s·η_end); 0 if the rectangle does not touch the origin.
+fn singularity_strength(zeta1: f64, zeta2: f64, eta_a: f64) -> f64 {
+    if eta_a == 0.0 && zeta1 <= 0.0 && zeta2 >= 0.0 {
+        f64::from(u8::from(zeta1 < 0.0) + u8::from(zeta2 > 0.0))
+    } else {
+        0.0
     }
 }
 
@@ -83,55 +94,25 @@ impl MovingHalfSpace {
         exp_integral_e1(p * zeta_plus_r(zeta1, eta)) - exp_integral_e1(p * zeta_plus_r(zeta2, eta))
     }
 
-    /// ∫_{ηa}^{ηb} ∫_{ζ1}^{ζ2} exp(−p(r + ζ))/r dζ dη for 0 ≤ ηa < ηb [m], to absolute tolerance `tol` [m].
-    ///
-    /// The lateral integrand E1(p(r1 + ζ1)) − E1(p(r2 + ζ2)) lies between 0 and E1(p(r1 + ζ1)), which falls
-    /// with |η| (ζ + r grows with |η|). Beyond the η where p(r1 + ζ1) reaches z* = ln((ηb − ηa)/ε) the
-    /// rest of the interval contributes less than (ηb − ηa)·e^(−z*)/z* ≤ ε = 1e-6·tol (E1(z) < e^(−z)/z,
-    /// A&S 5.1.20), so the integral stops there, and an interval that starts beyond it is zero without a
-    /// single integrand evaluation: upstream of the source at high Péclet number and laterally outside
-    /// the thermal wake most offsets are skipped this way.
-    fn lateral_interval(
-        &self,
-        zeta1: f64,
-        zeta2: f64,
-        eta_a: f64,
-        eta_b: f64,
-        tol: f64,
-    ) -> Quadrature {
-        let p = self.decay_rate();
-        let negligible = NEGLIGIBLE_FRACTION * tol;
-        let z_cut = ((eta_b - eta_a) / negligible).ln();
-        // p(r1 + ζ1) = z* at η² = c(c − 2ζ1), c = z*/p; at most 2pζ1 > z* for ζ1 > 0 when c < 2ζ1
-        let c = z_cut / p;
-        let eta_cut = if z_cut < 1.0 {
-            f64::INFINITY
-        } else {
-            (c * (c - 2.0 * zeta1)).max(0.0).sqrt()
-        };
-        if eta_cut <= eta_a {
-            return Quadrature {
-                value: 0.0,
-                error: negligible,
-                panels: 0,
-                converged: true,
-            };
+    /// The |η| [m] beyond which the lateral integrand of an offset rectangle starting at ζ1 is negligible
+    /// over an interval of length `length` [m]: where p(r1 + ζ1) reaches z* = ln(length/ε), so that
+    /// length·E1(z*) < length·e^(−z*)/z* ≤ ε (A&S 5.1.20); ∞ if ε is too coarse for that bound. Solving
+    /// p(sqrt(ζ1² + η²) + ζ1) = z* gives η² = c(c − 2ζ1) with c = z*/p; for ζ1 > 0 with c < 2ζ1 the
+    /// integrand is negligible everywhere (0).
+    fn negligible_beyond(&self, zeta1: f64, length: f64, negligible: f64) -> f64 {
+        let z_cut = (length / negligible).ln();
+        if z_cut < 1.0 {
+            return f64::INFINITY;
         }
-        let (eta_end, cut_error) = if eta_cut < eta_b {
-            (eta_cut, negligible)
-        } else {
-            (eta_b, 0.0)
-        };
-        // With the origin on the interval's edge, each side of ζ = 0 adds ln(1/η) (the 1/r singularity):
-        // subtract s·ln(η/η_end), whose integral over [0, η_end] is −s·η_end.
-        let strength = if eta_a == 0.0 && zeta1 <= 0.0 && zeta2 >= 0.0 {
-            f64::from(u8::from(zeta1 < 0.0) + u8::from(zeta2 > 0.0))
-        } else {
-            0.0
-        };
-        // Break points at the wake's structure behind each edge (half-width sqrt(2|ζ|/p + 1/p²), where
-        // p(r + ζ) = 1), merged when within a factor 1.5 of each other: the adaptive bisection resolves
-        // the rest.
+        let c = z_cut / self.decay_rate();
+        (c * (c - 2.0 * zeta1)).max(0.0).sqrt()
+    }
+
+    /// Break points of the lateral integral over [ηa, η_end] (ends included): the wake's structure behind
+    /// each downstream edge ζ < 0 (half-width sqrt(2|ζ|/p + 1/p²), where p(r + ζ) = 1, and 3 and 8 times
+    /// that), merged when within a factor 1.5 of each other: the adaptive bisection resolves the rest.
+    fn lateral_breaks(&self, zeta1: f64, zeta2: f64, eta_a: f64, eta_end: f64) -> Vec<f64> {
+        let p = self.decay_rate();
         let mut candidates: Vec<f64> = [zeta1, zeta2]
             .into_iter()
             .filter(|z| *z < 0.0)
@@ -149,6 +130,42 @@ impl MovingHalfSpace {
             }
         }
         breaks.push(eta_end);
+        breaks
+    }
+
+    /// ∫_{ηa}^{ηb} ∫_{ζ1}^{ζ2} exp(−p(r + ζ))/r dζ dη for 0 ≤ ηa < ηb [m], to absolute tolerance `tol` [m].
+    ///
+    /// The lateral integrand E1(p(r1 + ζ1)) − E1(p(r2 + ζ2)) lies between 0 and E1(p(r1 + ζ1)), which falls
+    /// with |η| (ζ + r grows with |η|). Beyond the η where p(r1 + ζ1) reaches z* = ln((ηb − ηa)/ε) the
+    /// rest of the interval contributes less than (ηb − ηa)·e^(−z*)/z* ≤ ε = 1e-6·tol (E1(z) < e^(−z)/z,
+    /// A&S 5.1.20), so the integral stops there, and an interval that starts beyond it is zero without a
+    /// single integrand evaluation: upstream of the source at high Péclet number and laterally outside
+    /// the thermal wake most offsets are skipped this way.
+    fn lateral_interval(
+        &self,
+        zeta1: f64,
+        zeta2: f64,
+        eta_a: f64,
+        eta_b: f64,
+        tol: f64,
+    ) -> Quadrature {
+        let negligible = NEGLIGIBLE_FRACTION * tol;
+        let eta_cut = self.negligible_beyond(zeta1, eta_b - eta_a, negligible);
+        if eta_cut <= eta_a {
+            return Quadrature {
+                value: 0.0,
+                error: negligible,
+                panels: 0,
+                converged: true,
+            };
+        }
+        let (eta_end, cut_error) = if eta_cut < eta_b {
+            (eta_cut, negligible)
+        } else {
+            (eta_b, 0.0)
+        };
+        let strength = singularity_strength(zeta1, zeta2, eta_a);
+        let breaks = self.lateral_breaks(zeta1, zeta2, eta_a, eta_end);
         let integrand = |eta: f64| {
             let regular = self.along_x(zeta1, zeta2, eta);
             if strength > 0.0 {
@@ -221,6 +238,86 @@ impl MovingHalfSpace {
     }
 }
 
+/// One row Δj of an influence table: the lateral range of its rectangles folded onto η ≥ 0 (as
+/// [`MovingHalfSpace::rectangle`] folds it), the Kronrod nodes on that range and, per cell edge ζ_k, the
+/// values E1(p(r + ζ_k)) at those nodes, each evaluated once and shared by the two rectangles meeting at
+/// the edge: most coefficients at low Péclet number are a single panel of the difference of two edges.
+struct TableRow<'a> {
+    body: &'a MovingHalfSpace,
+    edges: &'a [f64],
+    /// Folded lateral interval [ηa, ηb] [m].
+    eta: [f64; 2],
+    /// 2 if the rectangles straddle η = 0 (both halves alike), else 1.
+    fold: f64,
+    /// Lateral tolerance [m] (that of [`MovingHalfSpace::lateral_interval`]).
+    tol: f64,
+    nodes: [f64; 15],
+    values: Vec<Option<[f64; 15]>>,
+}
+
+impl<'a> TableRow<'a> {
+    /// Row of rectangles [edges[k], edges[k + 1]] × `lateral` (lateral[1] > 0, centred on η = 0 if
+    /// lateral[0] < 0) to tolerance `tol` [K·m²/W].
+    fn new(body: &'a MovingHalfSpace, edges: &'a [f64], lateral: [f64; 2], tol: f64) -> Self {
+        let tol_m = tol * 2.0 * PI * body.conductivity;
+        let (eta, fold, tol) = if lateral[0] >= 0.0 {
+            (lateral, 1.0, tol_m)
+        } else {
+            ([0.0, lateral[1]], 2.0, 0.5 * tol_m)
+        };
+        Self {
+            body,
+            edges,
+            eta,
+            fold,
+            tol,
+            nodes: kronrod_nodes(eta[0], eta[1]),
+            values: vec![None; edges.len()],
+        }
+    }
+
+    /// E1(p(r + ζ_k)) at the row's nodes.
+    fn edge(&mut self, k: usize) -> [f64; 15] {
+        let (body, zeta, nodes) = (self.body, self.edges[k], &self.nodes);
+        *self.values[k].get_or_insert_with(|| {
+            let p = body.decay_rate();
+            nodes.map(|eta| exp_integral_e1(p * zeta_plus_r(zeta, eta)))
+        })
+    }
+
+    /// The rectangle between edges k and k + 1 as one Kronrod panel of shared edge values, when that is
+    /// all [`MovingHalfSpace::lateral_interval`] would compute (no singular corner, no negligible tail and
+    /// no wake break inside the interval, the panel within tolerance), with the same result; None
+    /// otherwise.
+    fn shared_panel(&mut self, k: usize) -> Option<Quadrature> {
+        let (zeta1, zeta2) = (self.edges[k], self.edges[k + 1]);
+        let [eta_a, eta_b] = self.eta;
+        let negligible = NEGLIGIBLE_FRACTION * self.tol;
+        if singularity_strength(zeta1, zeta2, eta_a) > 0.0
+            || self
+                .body
+                .negligible_beyond(zeta1, eta_b - eta_a, negligible)
+                < eta_b
+            || self.body.lateral_breaks(zeta1, zeta2, eta_a, eta_b).len() > 2
+        {
+            return None;
+        }
+        let (upstream, downstream) = (self.edge(k), self.edge(k + 1));
+        let along_x: [f64; 15] = std::array::from_fn(|i| upstream[i] - downstream[i]);
+        let (value, error) = kronrod_sum(&along_x, eta_a, eta_b);
+        if error > self.tol {
+            return None;
+        }
+        let scale = 1.0 / (2.0 * PI * self.body.conductivity);
+        Some(Quadrature {
+            value: value * self.fold * scale,
+            error: error * self.fold * scale,
+            panels: 1,
+            converged: true,
+        })
+    }
+}
+
 /// Influence coefficients of one body on a uniform grid, by cell offset: translation invariance makes the
 /// temperature rise at cell (i, j) per unit flux on cell (i', j') a function G(Δi, Δj) of Δi = i − i',
 /// Δj = j − j' alone, and the kernel's symmetry in y gives G(Δi, −Δj) = G(Δi, Δj); so (2nx − 1)·ny values
@@ -261,19 +358,22 @@ impl InfluenceTable {
         let mut values = vec![0.0; width * ny];
         let mut error = 0.0_f64;
         let mut panels = 0;
+        // cell edges along x: offset Δi = di − (nx − 1) spans [edges[di], edges[di + 1]]
+        let edges: Vec<f64> = (0..=width)
+            .map(|k| (k as f64 - (nx as f64 - 0.5)) * hx)
+            .collect();
         // A skipped offset (no panel: its rigorous bound is negligible) ends its row: the bound only grows
         // more negligible upstream (larger Δi, larger ζ1 + r); a row skipped from its most downstream offset
         // on ends the table (larger Δj, larger |η| on the same interval length).
         for dj in 0..ny {
             let eta = dj as f64 * hy;
+            let lateral = [eta - 0.5 * hy, eta + 0.5 * hy];
+            let mut row = TableRow::new(body, &edges, lateral, tol);
             let mut row_skipped = true;
             for di in 0..width {
-                let zeta = (di as f64 - (nx - 1) as f64) * hx;
-                let q = body.rectangle(
-                    [zeta - 0.5 * hx, zeta + 0.5 * hx],
-                    [eta - 0.5 * hy, eta + 0.5 * hy],
-                    tol,
-                );
+                let q = row
+                    .shared_panel(di)
+                    .unwrap_or_else(|| body.rectangle([edges[di], edges[di + 1]], lateral, tol));
                 if q.panels == 0 {
                     break;
                 }
