@@ -244,7 +244,7 @@ const PIVOT_RATIO_MIN: f64 = 1e-13;
 /// the block-Jacobi preconditioner of the heat partition, nearly exact at high Péclet number where the
 /// wake of a source hardly reaches the neighbouring strips.
 ///
-/// Within a strip the matrix is Toeplitz, T[m][m'] = G(m' − m, 0) (cells m counted from the leading one),
+/// Within a strip the matrix is Toeplitz, T(m, m') = G(m' − m, 0) (cells m counted from the leading one),
 /// so every strip's matrix is a leading block of the longest strip's T. Its LU factorisation without row
 /// exchanges, T = L·U, and the triangular inverses L⁻¹, U⁻¹ have the same property: the leading L × L
 /// blocks of L⁻¹ and U⁻¹ invert the strip's factors. So one factorisation serves all strips, and each

@@ -493,7 +493,11 @@ mod tests {
             for xi in [0.0, 0.02, -0.1] {
                 let (vw, vr) = (v * (1.0 + 0.5 * xi), v * (1.0 - 0.5 * xi));
                 let model = HeatModel::new(&grid, vw, vr, &steel()).unwrap();
-                for q in [smooth_flux(&grid), trailing_flux(&grid)] {
+                // smooth, trailing (partial slip), and lopsided in y (as with spin)
+                let lopsided: Vec<f64> = (grid.cells.iter().zip(smooth_flux(&grid)))
+                    .map(|(c, q)| q * (1.0 + 0.8 * c.y / grid.b))
+                    .collect();
+                for q in [smooth_flux(&grid), trailing_flux(&grid), lopsided] {
                     let s = model.solve(&q).unwrap();
                     assert!(
                         s.converged && s.residual <= 1e-12,
