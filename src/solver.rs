@@ -16,7 +16,7 @@ use crate::materials::MaterialState;
 use crate::microcontact::Microcontact;
 use crate::params::{FrictionLaw, OperatingPoint, Params};
 use crate::tangential::{Creepages, Flexibilities, TractionField, fastsim, kalker_coefficients};
-use crate::thermal::HeatModel;
+use crate::thermal::{HeatModel, HeatSolution};
 use serde::Serialize;
 
 /// Why the outer iteration stopped.
@@ -433,6 +433,8 @@ pub fn solve_from(
     let mut prev_increment: Option<Vec<f64>> = None;
     let mut omega = params.solver.relaxation;
     let mut film: Option<FilmSolution> = warm.and_then(WarmStart::film);
+    // last heat partition: warm start of the next one
+    let mut heat_solution: Option<HeatSolution> = None;
     let mut report = SolverReport {
         iterations: 0,
         residual: f64::INFINITY,
@@ -480,9 +482,14 @@ pub fn solve_from(
         let field = fastsim(&setup.grid, creep, point.speed, &flex, &tau_l)?;
         let (target, q_wheel) = match &heat {
             Some(h) => {
-                let hs = h.solve(&field.power_density)?;
+                let hs = match &heat_solution {
+                    Some(previous) => h.solve_from(&field.power_density, previous)?,
+                    None => h.solve(&field.power_density)?,
+                };
                 let t: Vec<f64> = hs.temperature_rise.iter().map(|r| t0 + r).collect();
-                (t, hs.q_wheel)
+                let q_wheel = hs.q_wheel.clone();
+                heat_solution = Some(hs);
+                (t, q_wheel)
             }
             None => (vec![t0; n], vec![0.0; n]),
         };
@@ -514,8 +521,9 @@ pub fn solve_from(
             0.0
         };
         let done = report.residual <= params.solver.tolerance;
-        if (done && fluid_ok) || report.iterations >= params.solver.max_iterations {
-            report.converged = done && fluid_ok;
+        let heat_ok = heat_solution.as_ref().is_none_or(|hs| hs.converged);
+        if (done && fluid_ok && heat_ok) || report.iterations >= params.solver.max_iterations {
+            report.converged = done && fluid_ok && heat_ok;
             if report.converged {
                 report.termination = Termination::Converged;
             }

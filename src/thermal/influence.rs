@@ -9,17 +9,19 @@
 //! with the 1/r singularity's logarithm subtracted and integrated analytically.
 
 use super::expint::exp_integral_e1;
-use super::quadrature::{Quadrature, integrate_adaptive};
+use super::quadrature::{Quadrature, integrate_adaptive, kronrod_nodes, kronrod_sum};
 use crate::contact::ContactGrid;
 use crate::error::{Error, Result, check_finite, check_positive};
 use crate::params::Material;
-use faer::Mat;
 use std::f64::consts::PI;
 
 /// Relative accuracy asked of each influence coefficient (relative to the coefficient scale of the grid).
 const RELATIVE_TOLERANCE: f64 = 1e-9;
 /// Panel budget of one lateral integral.
 const MAX_PANELS: usize = 400;
+/// Part of the tolerance below which a lateral interval, or its tail, counts as negligible and is skipped
+/// (1e-15 of the grid's coefficient scale for the table's tolerance).
+const NEGLIGIBLE_FRACTION: f64 = 1e-6;
 
 /// One body as a half-space whose surface moves at speed v in −x under a fixed heat source.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -32,13 +34,25 @@ pub struct MovingHalfSpace {
     diffusivity: f64,
 }
 
-/// ζ + r with r = sqrt(ζ² + η²), without cancellation for ζ < 0 (there ζ + r = η²/(r − ζ)).
+/// ζ + r with r = sqrt(ζ² + η²), without cancellation for ζ < 0 (there ζ + r = η²/(r − ζ)). Offsets are
+/// contact-sized lengths, so ζ² + η² neither overflows nor underflows (no need for the slower `hypot`).
 fn zeta_plus_r(zeta: f64, eta: f64) -> f64 {
-    let r = zeta.hypot(eta);
+    let r = (zeta * zeta + eta * eta).sqrt();
     if zeta >= 0.0 {
         r + zeta
     } else {
         eta * eta / (r - zeta)
+    }
+}
+
+/// Number of sides of ζ = 0 that a lateral interval starting at η = 0 has next to the 1/r singularity
+/// (each adds ln(1/η) to the lateral integrand; subtracted as s·ln(η/η_end), whose integral over
+/// [0, η_end] is −s·η_end); 0 if the rectangle does not touch the origin.
+fn singularity_strength(zeta1: f64, zeta2: f64, eta_a: f64) -> f64 {
+    if eta_a == 0.0 && zeta1 <= 0.0 && zeta2 >= 0.0 {
+        f64::from(u8::from(zeta1 < 0.0) + u8::from(zeta2 > 0.0))
+    } else {
+        0.0
     }
 }
 
@@ -80,7 +94,53 @@ impl MovingHalfSpace {
         exp_integral_e1(p * zeta_plus_r(zeta1, eta)) - exp_integral_e1(p * zeta_plus_r(zeta2, eta))
     }
 
+    /// The |η| [m] beyond which the lateral integrand of an offset rectangle starting at ζ1 is negligible
+    /// over an interval of length `length` [m]: where p(r1 + ζ1) reaches z* = ln(length/ε), so that
+    /// length·E1(z*) < length·e^(−z*)/z* ≤ ε (A&S 5.1.20); ∞ if ε is too coarse for that bound. Solving
+    /// p(sqrt(ζ1² + η²) + ζ1) = z* gives η² = c(c − 2ζ1) with c = z*/p; for ζ1 > 0 with c < 2ζ1 the
+    /// integrand is negligible everywhere (0).
+    fn negligible_beyond(&self, zeta1: f64, length: f64, negligible: f64) -> f64 {
+        let z_cut = (length / negligible).ln();
+        if z_cut < 1.0 {
+            return f64::INFINITY;
+        }
+        let c = z_cut / self.decay_rate();
+        (c * (c - 2.0 * zeta1)).max(0.0).sqrt()
+    }
+
+    /// Break points of the lateral integral over [ηa, η_end] (ends included): the wake's structure behind
+    /// each downstream edge ζ < 0 (half-width sqrt(2|ζ|/p + 1/p²), where p(r + ζ) = 1, and 3 and 8 times
+    /// that), merged when within a factor 1.5 of each other: the adaptive bisection resolves the rest.
+    fn lateral_breaks(&self, zeta1: f64, zeta2: f64, eta_a: f64, eta_end: f64) -> Vec<f64> {
+        let p = self.decay_rate();
+        let mut candidates: Vec<f64> = [zeta1, zeta2]
+            .into_iter()
+            .filter(|z| *z < 0.0)
+            .flat_map(|zeta| {
+                let width = (2.0 * zeta.abs() / p + 1.0 / (p * p)).sqrt();
+                [width, 3.0 * width, 8.0 * width]
+            })
+            .filter(|eta| *eta > eta_a && *eta < eta_end)
+            .collect();
+        candidates.sort_by(f64::total_cmp);
+        let mut breaks = vec![eta_a];
+        for eta in candidates {
+            if eta > 1.5 * breaks[breaks.len() - 1] {
+                breaks.push(eta);
+            }
+        }
+        breaks.push(eta_end);
+        breaks
+    }
+
     /// ∫_{ηa}^{ηb} ∫_{ζ1}^{ζ2} exp(−p(r + ζ))/r dζ dη for 0 ≤ ηa < ηb [m], to absolute tolerance `tol` [m].
+    ///
+    /// The lateral integrand E1(p(r1 + ζ1)) − E1(p(r2 + ζ2)) lies between 0 and E1(p(r1 + ζ1)), which falls
+    /// with |η| (ζ + r grows with |η|). Beyond the η where p(r1 + ζ1) reaches z* = ln((ηb − ηa)/ε) the
+    /// rest of the interval contributes less than (ηb − ηa)·e^(−z*)/z* ≤ ε = 1e-6·tol (E1(z) < e^(−z)/z,
+    /// A&S 5.1.20), so the integral stops there, and an interval that starts beyond it is zero without a
+    /// single integrand evaluation: upstream of the source at high Péclet number and laterally outside
+    /// the thermal wake most offsets are skipped this way.
     fn lateral_interval(
         &self,
         zeta1: f64,
@@ -89,47 +149,34 @@ impl MovingHalfSpace {
         eta_b: f64,
         tol: f64,
     ) -> Quadrature {
-        let p = self.decay_rate();
-        // ζ + r grows with |η|, so the integrand is at most E1(p(ζ1 + r1)) at η = ηa.
-        let bound = (eta_b - eta_a) * exp_integral_e1(p * zeta_plus_r(zeta1, eta_a));
-        if bound <= 1e-3 * tol {
+        let negligible = NEGLIGIBLE_FRACTION * tol;
+        let eta_cut = self.negligible_beyond(zeta1, eta_b - eta_a, negligible);
+        if eta_cut <= eta_a {
             return Quadrature {
                 value: 0.0,
-                error: bound,
+                error: negligible,
                 panels: 0,
                 converged: true,
             };
         }
-        // With the origin on the interval's edge, each side of ζ = 0 adds ln(1/η) (the 1/r singularity):
-        // subtract s·ln(η/ηb), whose integral over [0, ηb] is −s·ηb.
-        let strength = if eta_a == 0.0 && zeta1 <= 0.0 && zeta2 >= 0.0 {
-            f64::from(u8::from(zeta1 < 0.0) + u8::from(zeta2 > 0.0))
+        let (eta_end, cut_error) = if eta_cut < eta_b {
+            (eta_cut, negligible)
         } else {
-            0.0
+            (eta_b, 0.0)
         };
-        let mut breaks = vec![eta_a, eta_b];
-        for zeta in [zeta1, zeta2].into_iter().filter(|z| *z < 0.0) {
-            // Wake half-width: p(r + ζ) = 1 at η = sqrt(2|ζ|/p + 1/p²).
-            let width = (2.0 * zeta.abs() / p + 1.0 / (p * p)).sqrt();
-            breaks.extend(
-                [1.0, 3.0, 8.0]
-                    .iter()
-                    .map(|m| m * width)
-                    .filter(|eta| *eta > eta_a && *eta < eta_b),
-            );
-        }
-        breaks.sort_by(f64::total_cmp);
-        breaks.dedup();
+        let strength = singularity_strength(zeta1, zeta2, eta_a);
+        let breaks = self.lateral_breaks(zeta1, zeta2, eta_a, eta_end);
         let integrand = |eta: f64| {
             let regular = self.along_x(zeta1, zeta2, eta);
             if strength > 0.0 {
-                regular + strength * (eta / eta_b).ln()
+                regular + strength * (eta / eta_end).ln()
             } else {
                 regular
             }
         };
         let mut q = integrate_adaptive(integrand, &breaks, tol, MAX_PANELS);
-        q.value += strength * eta_b;
+        q.value += strength * eta_end;
+        q.error += cut_error;
         q
     }
 
@@ -148,6 +195,19 @@ impl MovingHalfSpace {
         check_positive("rectangle length zeta2 - zeta1", zeta[1] - zeta[0], "m")?;
         check_positive("rectangle width eta2 - eta1", eta[1] - eta[0], "m")?;
         check_positive("quadrature tolerance", tol, "K·m²/W")?;
+        let q = self.rectangle(zeta, eta, tol);
+        if !q.value.is_finite() {
+            return Err(Error::Numerical {
+                stage: "thermal influence coefficient",
+                reason: format!("non-finite rectangle integral for offsets {zeta:?} x {eta:?}"),
+            });
+        }
+        Ok(q)
+    }
+
+    /// [`Self::offset_rectangle`] for checked input (finite, ζ1 < ζ2, η1 < η2, tol > 0). A result with no
+    /// panel is a rectangle skipped as negligible (see [`Self::lateral_interval`]).
+    fn rectangle(&self, zeta: [f64; 2], eta: [f64; 2], tol: f64) -> Quadrature {
         let scale = 1.0 / (2.0 * PI * self.conductivity);
         let tol_m = tol / scale;
         let [z1, z2] = zeta;
@@ -174,13 +234,87 @@ impl MovingHalfSpace {
         };
         q.value *= scale;
         q.error *= scale;
-        if !q.value.is_finite() {
-            return Err(Error::Numerical {
-                stage: "thermal influence coefficient",
-                reason: format!("non-finite rectangle integral for offsets {zeta:?} x {eta:?}"),
-            });
+        q
+    }
+}
+
+/// One row Δj of an influence table: the lateral range of its rectangles folded onto η ≥ 0 (as
+/// [`MovingHalfSpace::rectangle`] folds it), the Kronrod nodes on that range and, per cell edge ζ_k, the
+/// values E1(p(r + ζ_k)) at those nodes, each evaluated once and shared by the two rectangles meeting at
+/// the edge: most coefficients at low Péclet number are a single panel of the difference of two edges.
+struct TableRow<'a> {
+    body: &'a MovingHalfSpace,
+    edges: &'a [f64],
+    /// Folded lateral interval [ηa, ηb] [m].
+    eta: [f64; 2],
+    /// 2 if the rectangles straddle η = 0 (both halves alike), else 1.
+    fold: f64,
+    /// Lateral tolerance [m] (that of [`MovingHalfSpace::lateral_interval`]).
+    tol: f64,
+    nodes: [f64; 15],
+    values: Vec<Option<[f64; 15]>>,
+}
+
+impl<'a> TableRow<'a> {
+    /// Row of rectangles [edges[k], edges[k + 1]] × `lateral` (lateral[1] > 0, centred on η = 0 if
+    /// lateral[0] < 0) to tolerance `tol` [K·m²/W].
+    fn new(body: &'a MovingHalfSpace, edges: &'a [f64], lateral: [f64; 2], tol: f64) -> Self {
+        let tol_m = tol * 2.0 * PI * body.conductivity;
+        let (eta, fold, tol) = if lateral[0] >= 0.0 {
+            (lateral, 1.0, tol_m)
+        } else {
+            ([0.0, lateral[1]], 2.0, 0.5 * tol_m)
+        };
+        Self {
+            body,
+            edges,
+            eta,
+            fold,
+            tol,
+            nodes: kronrod_nodes(eta[0], eta[1]),
+            values: vec![None; edges.len()],
         }
-        Ok(q)
+    }
+
+    /// E1(p(r + ζ_k)) at the row's nodes.
+    fn edge(&mut self, k: usize) -> [f64; 15] {
+        let (body, zeta, nodes) = (self.body, self.edges[k], &self.nodes);
+        *self.values[k].get_or_insert_with(|| {
+            let p = body.decay_rate();
+            nodes.map(|eta| exp_integral_e1(p * zeta_plus_r(zeta, eta)))
+        })
+    }
+
+    /// The rectangle between edges k and k + 1 as one Kronrod panel of shared edge values, when that is
+    /// all [`MovingHalfSpace::lateral_interval`] would compute (no singular corner, no negligible tail and
+    /// no wake break inside the interval, the panel within tolerance), with the same result; None
+    /// otherwise.
+    fn shared_panel(&mut self, k: usize) -> Option<Quadrature> {
+        let (zeta1, zeta2) = (self.edges[k], self.edges[k + 1]);
+        let [eta_a, eta_b] = self.eta;
+        let negligible = NEGLIGIBLE_FRACTION * self.tol;
+        if singularity_strength(zeta1, zeta2, eta_a) > 0.0
+            || self
+                .body
+                .negligible_beyond(zeta1, eta_b - eta_a, negligible)
+                < eta_b
+            || self.body.lateral_breaks(zeta1, zeta2, eta_a, eta_b).len() > 2
+        {
+            return None;
+        }
+        let (upstream, downstream) = (self.edge(k), self.edge(k + 1));
+        let along_x: [f64; 15] = std::array::from_fn(|i| upstream[i] - downstream[i]);
+        let (value, error) = kronrod_sum(&along_x, eta_a, eta_b);
+        if error > self.tol {
+            return None;
+        }
+        let scale = 1.0 / (2.0 * PI * self.body.conductivity);
+        Some(Quadrature {
+            value: value * self.fold * scale,
+            error: error * self.fold * scale,
+            panels: 1,
+            converged: true,
+        })
     }
 }
 
@@ -204,7 +338,9 @@ impl InfluenceTable {
     /// Coefficients of `body` for every offset of an nx × ny grid of cells h_x × h_y [m]: temperature rise
     /// at a cell centre per unit flux density [W/m²] on a whole source cell (MODEL.md §7). Each coefficient
     /// is accurate to 1e-9 of the grid's coefficient scale h/sqrt(1 + p·h)/(2πλ) (h = min(h_x, h_y));
-    /// an integral that misses this within its panel budget is an error.
+    /// an integral that misses this within its panel budget is an error. Offsets whose rigorous bound is
+    /// below 1e-15 of that scale (upstream at high Péclet number, laterally outside the wake) are exactly
+    /// zero and cost no quadrature.
     pub fn new(body: &MovingHalfSpace, nx: usize, ny: usize, hx: f64, hy: f64) -> Result<Self> {
         if nx == 0 || ny == 0 {
             return Err(Error::out_of_range(
@@ -219,32 +355,47 @@ impl InfluenceTable {
         let scale = h / (1.0 + body.decay_rate() * h).sqrt() / (2.0 * PI * body.conductivity);
         let tol = RELATIVE_TOLERANCE * scale;
         let width = 2 * nx - 1;
-        let mut values = Vec::with_capacity(width * ny);
+        let mut values = vec![0.0; width * ny];
         let mut error = 0.0_f64;
         let mut panels = 0;
+        // cell edges along x: offset Δi = di − (nx − 1) spans [edges[di], edges[di + 1]]
+        let edges: Vec<f64> = (0..=width)
+            .map(|k| (k as f64 - (nx as f64 - 0.5)) * hx)
+            .collect();
+        // A skipped offset (no panel: its rigorous bound is negligible) ends its row: the bound only grows
+        // more negligible upstream (larger Δi, larger ζ1 + r); a row skipped from its most downstream offset
+        // on ends the table (larger Δj, larger |η| on the same interval length).
         for dj in 0..ny {
             let eta = dj as f64 * hy;
+            let lateral = [eta - 0.5 * hy, eta + 0.5 * hy];
+            let mut row = TableRow::new(body, &edges, lateral, tol);
+            let mut row_skipped = true;
             for di in 0..width {
-                let zeta = (di as f64 - (nx - 1) as f64) * hx;
-                let q = body.offset_rectangle(
-                    [zeta - 0.5 * hx, zeta + 0.5 * hx],
-                    [eta - 0.5 * hy, eta + 0.5 * hy],
-                    tol,
-                )?;
-                if !q.converged {
+                let q = row
+                    .shared_panel(di)
+                    .unwrap_or_else(|| body.rectangle([edges[di], edges[di + 1]], lateral, tol));
+                if q.panels == 0 {
+                    break;
+                }
+                row_skipped = false;
+                if !q.converged || !q.value.is_finite() {
                     return Err(Error::Numerical {
                         stage: "thermal influence coefficient",
                         reason: format!(
-                            "quadrature for offset ({}, {dj}) unconverged: error estimate {:.3e} > tolerance {tol:.3e} after {} panels",
+                            "quadrature for offset ({}, {dj}) unconverged: value {:.3e}, error estimate {:.3e} > tolerance {tol:.3e} after {} panels",
                             di as isize - (nx - 1) as isize,
+                            q.value,
                             q.error,
                             q.panels
                         ),
                     });
                 }
-                values.push(q.value);
+                values[di + width * dj] = q.value;
                 error = error.max(q.error);
                 panels += q.panels;
+            }
+            if row_skipped {
+                break;
             }
         }
         Ok(Self {
@@ -271,6 +422,11 @@ impl InfluenceTable {
         Some(self.values[(di + nx - 1) as usize + (2 * self.nx - 1) * dj.unsigned_abs()])
     }
 
+    /// Grid size (nx, ny) the table was built for.
+    pub fn size(&self) -> (usize, usize) {
+        (self.nx, self.ny)
+    }
+
     /// Largest estimated absolute quadrature error of a coefficient [K·m²/W].
     pub fn error_estimate(&self) -> f64 {
         self.error
@@ -281,9 +437,10 @@ impl InfluenceTable {
         self.panels
     }
 
-    /// The N × N influence matrix over the active cells of `grid` (which must be the grid the table was
+    /// The dense N × N influence matrix over the active cells of `grid` (which must be the grid the table was
     /// built for): G[k, l] = temperature rise at cell k per unit flux density on cell l [K·m²/W].
-    pub fn matrix(&self, grid: &ContactGrid) -> Result<Mat<f64>> {
+    #[cfg(test)]
+    pub(crate) fn matrix(&self, grid: &ContactGrid) -> Result<faer::Mat<f64>> {
         if grid.nx != self.nx || grid.ny != self.ny {
             return Err(Error::Numerical {
                 stage: "thermal influence matrix",
@@ -296,7 +453,7 @@ impl InfluenceTable {
         let cells = &grid.cells;
         let width = 2 * self.nx - 1;
         let offset = self.nx - 1;
-        Ok(Mat::from_fn(cells.len(), cells.len(), |k, l| {
+        Ok(faer::Mat::from_fn(cells.len(), cells.len(), |k, l| {
             let (field, source) = (&cells[k], &cells[l]);
             let di = field.i + offset - source.i;
             let dj = field.j.abs_diff(source.j);
@@ -517,6 +674,55 @@ mod tests {
         }
         assert_eq!(table.coefficient(9, 0), None);
         assert_eq!(table.coefficient(0, 1), table.coefficient(0, -1));
+    }
+
+    #[test]
+    fn skipping_negligible_offsets_changes_no_coefficient() {
+        // The default Hertz grid (MODEL.md §2, 30 × 30). Reference: every offset integrated by
+        // offset_rectangle with a 1000 times tighter tolerance, whose own negligible cut (1e-6 of its
+        // tolerance) lies at 1e-18 of the coefficient scale, far below the table's 1e-15.
+        let (a, b) = (5.879e-3, 10.54e-3);
+        let (n, hx, hy) = (30, 2.0 * a / 30.0, 2.0 * b / 30.0);
+        for v in [0.1, 1.0, 30.0, 100.0] {
+            let body = MovingHalfSpace::new(v, &steel()).unwrap();
+            let table = InfluenceTable::new(&body, n, n, hx, hy).unwrap();
+            let h = hx.min(hy);
+            let scale = h / (1.0 + body.decay_rate() * h).sqrt() / (2.0 * PI * 50.0);
+            let mut skipped = 0;
+            for dj in 0..n as isize {
+                for di in 1 - n as isize..n as isize {
+                    let (zeta, eta) = (di as f64 * hx, dj as f64 * hy);
+                    let reference = body
+                        .offset_rectangle(
+                            [zeta - 0.5 * hx, zeta + 0.5 * hx],
+                            [eta - 0.5 * hy, eta + 0.5 * hy],
+                            1e-12 * scale,
+                        )
+                        .unwrap()
+                        .value;
+                    let fast = table.coefficient(di, dj).unwrap();
+                    if fast == 0.0 {
+                        skipped += 1;
+                        assert!(
+                            reference <= 1e-15 * scale,
+                            "v = {v}: skipped ({di}, {dj}) is {:.2e} of the scale",
+                            reference / scale
+                        );
+                    } else {
+                        assert!(
+                            (fast - reference).abs() <= 1e-9 * scale,
+                            "v = {v}: ({di}, {dj}) {fast} vs {reference}"
+                        );
+                    }
+                }
+            }
+            // Upstream offsets (half the table) and the lateral ones outside the wake are skipped.
+            let expected = if v < 1.0 { 800 } else { 1500 };
+            assert!(
+                skipped > expected,
+                "v = {v}: only {skipped} offsets skipped"
+            );
+        }
     }
 
     #[test]

@@ -1,7 +1,9 @@
 //! Macroscopic contact temperature: moving-source influence coefficients and the wheel–rail heat partition (MODEL.md §7, paper §2.3).
 
+pub mod convolution;
 pub mod expint;
 pub mod influence;
+pub mod krylov;
 pub mod partition;
 pub mod quadrature;
 

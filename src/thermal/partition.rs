@@ -2,19 +2,24 @@
 //!
 //! The frictional power density q of each cell splits into q_w into the wheel and q_r = q − q_w into the
 //! rail such that both surfaces have the same temperature in every cell: G_w·q_w = G_r·(q − q_w), i.e.
-//! (G_w + G_r)·q_w = G_r·q; the temperature rise over the bulk is G_w·q_w. The matrices depend only on
-//! the grid and the two surface speeds, so (G_w + G_r) is factorised once (dense LU, partial pivoting).
+//! (G_w + G_r)·q_w = G_r·q; the temperature rise over the bulk is G_w·q_w. The influence matrices are
+//! never formed: each is a convolution with an offset table ([`OffsetKernel`]), and the partition is
+//! solved by GMRES ([`gmres`]) preconditioned with the exact strip-by-strip inverse of G_w + G_r
+//! ([`StripSolver`]), started from the one-dimensional high-Péclet partition or from a previous solution.
 
+use super::convolution::{OffsetKernel, StripLayout, StripSolver};
 use super::influence::{InfluenceTable, MovingHalfSpace};
+use super::krylov::{GmresSettings, gmres};
 use crate::contact::ContactGrid;
 use crate::error::{Error, Result};
 use crate::params::Material;
-use faer::col::ColRef;
-use faer::linalg::solvers::{PartialPivLu, Solve};
-use faer::{Col, Mat, MatRef};
 
-/// Smallest admissible |pivot| of the LU factors relative to the largest.
-const PIVOT_RATIO_MIN: f64 = 1e-13;
+/// GMRES limits of the partition solve: relative residual 1e-12 of G_r·q.
+const SETTINGS: GmresSettings = GmresSettings {
+    tolerance: 1e-12,
+    restart: 60,
+    max_iterations: 600,
+};
 
 /// Which body of the contact.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -28,12 +33,18 @@ pub enum Body {
 /// Precomputed heat model for one grid and one pair of surface speeds.
 #[derive(Debug, Clone)]
 pub struct HeatModel {
-    /// Influence matrix of the wheel G_w [K·m²/W].
-    wheel: Mat<f64>,
-    /// Influence matrix of the rail G_r [K·m²/W].
-    rail: Mat<f64>,
-    /// LU factors of G_w + G_r.
-    lu: PartialPivLu<f64>,
+    /// The grid's strips.
+    layout: StripLayout,
+    /// Offset kernel of the wheel G_w [K·m²/W].
+    wheel: OffsetKernel,
+    /// Offset kernel of the rail G_r [K·m²/W].
+    rail: OffsetKernel,
+    /// G_w + G_r [K·m²/W].
+    sum: OffsetKernel,
+    /// Strip-by-strip inverse of G_w + G_r (the preconditioner).
+    strips: StripSolver,
+    /// One-dimensional high-Péclet wheel share sqrt(v_w)/(sqrt(v_w) + sqrt(v_r)) (MODEL.md §7).
+    share: f64,
     /// Largest estimated quadrature error of an influence coefficient [K·m²/W].
     quadrature_error: f64,
 }
@@ -49,12 +60,20 @@ pub struct HeatSolution {
     pub q_rail: Vec<f64>,
     /// max over cells of |G_w·q_w − G_r·q_r|: how well the two surface temperatures agree [K].
     pub mismatch: f64,
+    /// GMRES steps of the partition solve (0 if the starting guess already satisfied the tolerance).
+    pub iterations: usize,
+    /// Relative residual ‖G_r·q − (G_w + G_r)·q_w‖₂/‖G_r·q‖₂ of the returned q_w.
+    pub residual: f64,
+    /// True if the residual reached 1e-12; false means q_w is only the last iterate of an exhausted
+    /// iteration budget and must not be used as a solution.
+    pub converged: bool,
 }
 
 impl HeatModel {
     /// `v_wheel`, `v_rail`: surface speeds [m/s] of wheel and rail through the contact (both > 0; each
     /// body moves in −x of the contact frame), `material`: conductivity λ and diffusivity κ of both bodies.
-    /// Builds G_w and G_r from the moving-source influence tables (MODEL.md §7) and factorises G_w + G_r.
+    /// Tabulates the moving-source influence coefficients of both bodies (MODEL.md §7) and factorises the
+    /// strip-diagonal part of G_w + G_r.
     pub fn new(grid: &ContactGrid, v_wheel: f64, v_rail: f64, material: &Material) -> Result<Self> {
         if grid.is_empty() {
             return Err(Error::Numerical {
@@ -62,6 +81,7 @@ impl HeatModel {
                 reason: "the contact grid has no active cell".to_string(),
             });
         }
+        let layout = StripLayout::new(grid)?;
         let wheel_table =
             InfluenceTable::for_grid(&MovingHalfSpace::new(v_wheel, material)?, grid)?;
         let rail_table = if v_rail == v_wheel {
@@ -69,23 +89,15 @@ impl HeatModel {
         } else {
             InfluenceTable::for_grid(&MovingHalfSpace::new(v_rail, material)?, grid)?
         };
-        let wheel = wheel_table.matrix(grid)?;
-        let rail = rail_table.matrix(grid)?;
-        let lu = (&wheel + &rail).partial_piv_lu();
-        let pivots = lu.U().diagonal().column_vector();
-        let (min, max) = pivots.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), u| {
-            (lo.min(u.abs()), hi.max(u.abs()))
-        });
-        if !(max.is_finite() && min > PIVOT_RATIO_MIN * max) {
-            return Err(Error::Numerical {
-                stage: "thermal partition",
-                reason: format!("G_w + G_r is singular (pivots between {min:.3e} and {max:.3e})"),
-            });
-        }
+        let sum = OffsetKernel::sum(&layout, &[&wheel_table, &rail_table])?;
+        let strips = StripSolver::new(&sum, &layout)?;
         Ok(Self {
-            wheel,
-            rail,
-            lu,
+            wheel: OffsetKernel::sum(&layout, &[&wheel_table])?,
+            rail: OffsetKernel::sum(&layout, &[&rail_table])?,
+            sum,
+            strips,
+            layout,
+            share: v_wheel.sqrt() / (v_wheel.sqrt() + v_rail.sqrt()),
             quadrature_error: wheel_table
                 .error_estimate()
                 .max(rail_table.error_estimate()),
@@ -94,21 +106,12 @@ impl HeatModel {
 
     /// Number of active cells N.
     pub fn len(&self) -> usize {
-        self.wheel.nrows()
+        self.layout.len()
     }
 
     /// True if the model has no cell (never: [`HeatModel::new`] refuses an empty grid).
     pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// Influence matrix of `body` [K·m²/W]: entry (k, l) is the temperature rise of cell k per unit flux
-    /// density on cell l.
-    pub fn influence(&self, body: Body) -> MatRef<'_, f64> {
-        match body {
-            Body::Wheel => self.wheel.as_ref(),
-            Body::Rail => self.rail.as_ref(),
-        }
+        self.layout.is_empty()
     }
 
     /// Largest estimated quadrature error of an influence coefficient [K·m²/W].
@@ -116,8 +119,16 @@ impl HeatModel {
         self.quadrature_error
     }
 
+    /// Offset kernel of `body`.
+    fn kernel(&self, body: Body) -> &OffsetKernel {
+        match body {
+            Body::Wheel => &self.wheel,
+            Body::Rail => &self.rail,
+        }
+    }
+
     /// Checks a per-cell heat flux density: one finite value per cell.
-    fn check_flux<'a>(&self, q: &'a [f64]) -> Result<ColRef<'a, f64>> {
+    fn check_flux(&self, q: &[f64]) -> Result<()> {
         if q.len() != self.len() {
             return Err(Error::out_of_range(
                 "heat flux length",
@@ -132,44 +143,79 @@ impl HeatModel {
                 "finite W/m²",
             ));
         }
-        Ok(ColRef::from_slice(q))
+        Ok(())
     }
 
     /// Surface temperature rise of `body` if it took all of the heat flux density `q` [W/m²]: G·q [K].
     pub fn one_body_rise(&self, body: Body, q: &[f64]) -> Result<Vec<f64>> {
-        let q = self.check_flux(q)?;
-        Ok(to_vec(&(self.influence(body) * q)))
+        self.check_flux(q)?;
+        let mut rise = vec![0.0; q.len()];
+        self.kernel(body).apply(&self.layout, q, &mut rise);
+        Ok(rise)
     }
 
     /// Heat partition and surface temperature rise for frictional power density `q` per cell [W/m²]:
-    /// solves (G_w + G_r)·q_w = G_r·q, q_r = q − q_w, ΔT = G_w·q_w (paper §2.3, MODEL.md §7).
+    /// solves (G_w + G_r)·q_w = G_r·q, q_r = q − q_w, ΔT = G_w·q_w (paper §2.3, MODEL.md §7), starting
+    /// from the one-dimensional high-Péclet partition q_w = q·sqrt(v_w)/(sqrt(v_w) + sqrt(v_r)).
     pub fn solve(&self, q: &[f64]) -> Result<HeatSolution> {
-        let q = self.check_flux(q)?;
-        let q_wheel = self.lu.solve(&self.rail * q);
-        let q_rail = q - &q_wheel;
-        let wheel_rise = &self.wheel * &q_wheel;
-        let rail_rise = &self.rail * &q_rail;
-        let mismatch = (&wheel_rise - &rail_rise)
+        self.check_flux(q)?;
+        let guess = q.iter().map(|qk| self.share * qk).collect();
+        self.partition(q, guess)
+    }
+
+    /// [`Self::solve`] warm-started from the solution `previous` for a nearby flux q_prev = q_w + q_r
+    /// (an outer iteration's last): the first guess q_w,prev + s·(q − q_prev), s the one-dimensional
+    /// share, leaves a residual of the order of the change in q.
+    pub fn solve_from(&self, q: &[f64], previous: &HeatSolution) -> Result<HeatSolution> {
+        self.check_flux(q)?;
+        if previous.q_wheel.len() != q.len() || previous.q_rail.len() != q.len() {
+            return Err(Error::out_of_range(
+                "previous heat solution length",
+                previous.q_wheel.len() as f64,
+                &format!("one value per active cell ({})", self.len()),
+            ));
+        }
+        let guess = q
             .iter()
-            .fold(0.0_f64, |m, d| m.max(d.abs()));
-        if !mismatch.is_finite() {
+            .zip(previous.q_wheel.iter().zip(&previous.q_rail))
+            .map(|(qk, (w, r))| w + self.share * (qk - (w + r)))
+            .collect();
+        self.partition(q, guess)
+    }
+
+    /// GMRES on (G_w + G_r)·q_w = G_r·q from `q_wheel`; then ΔT = G_w·q_w and the mismatch from the final
+    /// residual (G_w·q_w − G_r·q_r = (G_w + G_r)·q_w − G_r·q).
+    fn partition(&self, q: &[f64], mut q_wheel: Vec<f64>) -> Result<HeatSolution> {
+        let n = q.len();
+        let mut rhs = vec![0.0; n];
+        self.rail.apply(&self.layout, q, &mut rhs);
+        let (report, residual) = gmres(
+            |v, out| self.sum.apply(&self.layout, v, out),
+            |v| self.strips.apply(&self.layout, v),
+            &rhs,
+            &mut q_wheel,
+            SETTINGS,
+        );
+        let mut temperature_rise = vec![0.0; n];
+        self.wheel
+            .apply(&self.layout, &q_wheel, &mut temperature_rise);
+        let mismatch = residual.iter().fold(0.0_f64, |m, r| m.max(r.abs()));
+        if !(mismatch.is_finite() && temperature_rise.iter().all(|t| t.is_finite())) {
             return Err(Error::Numerical {
                 stage: "thermal partition",
                 reason: "non-finite heat partition".to_string(),
             });
         }
         Ok(HeatSolution {
-            temperature_rise: to_vec(&wheel_rise),
-            q_wheel: to_vec(&q_wheel),
-            q_rail: to_vec(&q_rail),
+            temperature_rise,
+            q_rail: q.iter().zip(&q_wheel).map(|(qk, w)| qk - w).collect(),
+            q_wheel,
             mismatch,
+            iterations: report.iterations,
+            residual: report.residual,
+            converged: report.converged,
         })
     }
-}
-
-/// Copies a faer column into a Vec.
-fn to_vec(col: &Col<f64>) -> Vec<f64> {
-    col.iter().copied().collect()
 }
 
 #[cfg(test)]
@@ -399,5 +445,111 @@ mod tests {
         assert!(model.solve(&q).is_err());
         assert!(model.one_body_rise(Body::Rail, &q).is_err());
         assert!(model.solve(&[]).is_err());
+        let good = model.solve(&vec![1e9; grid.len()]).unwrap();
+        let short = HeatSolution {
+            q_wheel: vec![0.0; 3],
+            ..good.clone()
+        };
+        assert!(model.solve_from(&vec![1e9; grid.len()], &short).is_err());
+        assert!(model.solve_from(&q, &good).is_err());
+    }
+
+    /// Frictional power concentrated in the trailing half, as under partial slip [W/m²].
+    fn trailing_flux(grid: &ContactGrid) -> Vec<f64> {
+        grid.cells
+            .iter()
+            .map(|c| {
+                let p = (1.0 - (c.x / grid.a).powi(2) - (c.y / grid.b).powi(2)).max(0.0);
+                1e9 * p.sqrt() * (-c.x / grid.a).max(0.0)
+            })
+            .collect()
+    }
+
+    fn max_abs(v: impl IntoIterator<Item = f64>) -> f64 {
+        v.into_iter().fold(0.0_f64, |m, x| m.max(x.abs()))
+    }
+
+    /// The slow reference path: dense G_w, G_r from the same influence tables and a dense LU of G_w + G_r
+    /// (the implementation before the convolution and GMRES): (q_w, ΔT).
+    fn dense_reference(grid: &ContactGrid, vw: f64, vr: f64, q: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        use faer::linalg::solvers::Solve;
+        let table = |v| InfluenceTable::for_grid(&MovingHalfSpace::new(v, &steel()).unwrap(), grid);
+        let gw = table(vw).unwrap().matrix(grid).unwrap();
+        let gr = table(vr).unwrap().matrix(grid).unwrap();
+        let q = faer::ColRef::from_slice(q);
+        let q_wheel = (&gw + &gr).partial_piv_lu().solve(&gr * q);
+        let rise = &gw * &q_wheel;
+        (
+            q_wheel.iter().copied().collect(),
+            rise.iter().copied().collect(),
+        )
+    }
+
+    #[test]
+    fn fast_partition_matches_the_dense_reference() {
+        // Default Hertz grid (30 × 30, MODEL.md §2), v_w,r = V(1 ± ξ/2) (MODEL.md §1).
+        let grid = hertz_grid(30);
+        for v in [0.1, 1.0, 30.0, 100.0] {
+            for xi in [0.0, 0.02, -0.1] {
+                let (vw, vr) = (v * (1.0 + 0.5 * xi), v * (1.0 - 0.5 * xi));
+                let model = HeatModel::new(&grid, vw, vr, &steel()).unwrap();
+                // smooth, trailing (partial slip), and lopsided in y (as with spin)
+                let lopsided: Vec<f64> = (grid.cells.iter().zip(smooth_flux(&grid)))
+                    .map(|(c, q)| q * (1.0 + 0.8 * c.y / grid.b))
+                    .collect();
+                for q in [smooth_flux(&grid), trailing_flux(&grid), lopsided] {
+                    let s = model.solve(&q).unwrap();
+                    assert!(
+                        s.converged && s.residual <= 1e-12,
+                        "V = {v}, ξ = {xi}: {} iterations, residual {:.2e}",
+                        s.iterations,
+                        s.residual
+                    );
+                    let (q_wheel, rise) = dense_reference(&grid, vw, vr, &q);
+                    let (qmax, tmax) = (max_abs(q_wheel.clone()), max_abs(rise.clone()));
+                    let dq = max_abs(s.q_wheel.iter().zip(&q_wheel).map(|(a, b)| a - b));
+                    let dt = max_abs(s.temperature_rise.iter().zip(&rise).map(|(a, b)| a - b));
+                    assert!(dq <= 1e-9 * qmax, "V = {v}, ξ = {xi}: q_w off by {dq:.2e}");
+                    assert!(dt <= 1e-9 * tmax, "V = {v}, ξ = {xi}: ΔT off by {dt:.2e}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn solution_reports_its_residual_and_warm_starts() {
+        let grid = hertz_grid(30);
+        for v in [0.1, 30.0] {
+            let model = HeatModel::new(&grid, v * 1.05, v * 0.95, &steel()).unwrap();
+            let q0 = trailing_flux(&grid);
+            let cold0 = model.solve(&q0).unwrap();
+            assert!(cold0.converged && cold0.iterations > 0);
+            // The mismatch is the temperature difference of the two bodies, recomputed here.
+            let wheel = model.one_body_rise(Body::Wheel, &cold0.q_wheel).unwrap();
+            let rail = model.one_body_rise(Body::Rail, &cold0.q_rail).unwrap();
+            let mismatch = max_abs(wheel.iter().zip(&rail).map(|(w, r)| w - r));
+            let tmax = max_abs(cold0.temperature_rise.clone());
+            assert!((mismatch - cold0.mismatch).abs() <= 1e-12 * tmax);
+            assert!(cold0.mismatch <= 1e-10 * tmax, "{}", cold0.mismatch);
+            // A nearby flux (the next outer iteration): same solution, fewer iterations.
+            let q1: Vec<f64> = q0
+                .iter()
+                .zip(smooth_flux(&grid))
+                .map(|(a, b)| a + 1e-3 * b)
+                .collect();
+            let cold = model.solve(&q1).unwrap();
+            let warm = model.solve_from(&q1, &cold0).unwrap();
+            assert!(
+                warm.converged
+                    && warm.iterations <= cold.iterations
+                    && (v > 1.0 || warm.iterations < cold.iterations),
+                "v = {v}: {} warm vs {} cold iterations",
+                warm.iterations,
+                cold.iterations
+            );
+            let qmax = max_abs(cold.q_wheel.clone());
+            let dq = max_abs(warm.q_wheel.iter().zip(&cold.q_wheel).map(|(a, b)| a - b));
+            assert!(dq <= 1e-10 * qmax, "v = {v}: {dq:.2e}");
+        }
     }
 }

@@ -45,22 +45,39 @@ pub struct Quadrature {
     pub converged: bool,
 }
 
-/// One G7/K15 panel on [lo, hi]: (Kronrod value, |Kronrod − Gauss|).
-pub(crate) fn gauss_kronrod_15(f: &impl Fn(f64) -> f64, lo: f64, hi: f64) -> (f64, f64) {
+/// The 15 Kronrod nodes of [lo, hi] in the order [`kronrod_sum`] expects: the centre, then the pairs
+/// centre ∓ half·XGK[k] for k = 0…6.
+pub(crate) fn kronrod_nodes(lo: f64, hi: f64) -> [f64; 15] {
     let centre = 0.5 * (lo + hi);
     let half = 0.5 * (hi - lo);
-    let fc = f(centre);
-    let mut kronrod = WGK[7] * fc;
-    let mut gauss = WG[3] * fc;
+    let mut nodes = [centre; 15];
     for k in 0..7 {
         let dx = half * XGK[k];
-        let pair = f(centre - dx) + f(centre + dx);
+        nodes[1 + 2 * k] = centre - dx;
+        nodes[2 + 2 * k] = centre + dx;
+    }
+    nodes
+}
+
+/// One G7/K15 panel on [lo, hi] from the integrand's values at [`kronrod_nodes`]:
+/// (Kronrod value, |Kronrod − Gauss|).
+pub(crate) fn kronrod_sum(values: &[f64; 15], lo: f64, hi: f64) -> (f64, f64) {
+    let half = 0.5 * (hi - lo);
+    let mut kronrod = WGK[7] * values[0];
+    let mut gauss = WG[3] * values[0];
+    for k in 0..7 {
+        let pair = values[1 + 2 * k] + values[2 + 2 * k];
         kronrod += WGK[k] * pair;
         if k % 2 == 1 {
             gauss += WG[k / 2] * pair;
         }
     }
     (kronrod * half, ((kronrod - gauss) * half).abs())
+}
+
+/// One G7/K15 panel on [lo, hi]: (Kronrod value, |Kronrod − Gauss|).
+pub(crate) fn gauss_kronrod_15(f: &impl Fn(f64) -> f64, lo: f64, hi: f64) -> (f64, f64) {
+    kronrod_sum(&kronrod_nodes(lo, hi).map(f), lo, hi)
 }
 
 /// Integrates `f` over [breaks[0], breaks[last]] (ascending break points, at least two), starting with one
