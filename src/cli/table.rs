@@ -128,7 +128,7 @@ fn build(a: &BuildArgs) -> Result<()> {
     };
     let shard = a.shard.as_deref().map(parse_shard).transpose()?;
     let points = match shard {
-        Some(s) => table::file::shard_len(axes.len(), s),
+        Some(s) => table::file::shard_len(&axes, s),
         None => axes.len(),
     };
     eprintln!(

@@ -14,7 +14,7 @@ use super::axes::{Axes, DIMS, FORCE};
 use super::file::{
     ArrayRecord, BuildRecord, FORMAT, FORMAT_VERSION, MODEL_VERSION, MomentScale, OUTPUTS,
     ShardRecord, Sidecar, TableFiles, UnconvergedRecord, axis_records, corrupt, fingerprint,
-    now_iso8601, symmetry_notes,
+    line_stride, now_iso8601, shard_indices, symmetry_notes,
 };
 use crate::error::{Error, Result};
 use crate::params::{OperatingPoint, Params};
@@ -85,7 +85,7 @@ pub fn build(
         ));
     }
     let scale = MomentScale::of(params, axes.0[FORCE].points[0])?;
-    let indices = shard_indices(axes, s.index, s.count);
+    let indices = shard_indices(axes, s);
     let start = Instant::now();
     // each ξ line is one continuation chain (every point starts from its predecessor along ξ); lines are
     // solved in parallel and their results put back in index order
@@ -186,20 +186,6 @@ pub fn build(
     })
 }
 
-/// Distance in flat index between neighbours along ξ (the slowest axis): the number of ξ lines.
-fn line_stride(axes: &Axes) -> usize {
-    axes.len() / axes.0[0].points.len()
-}
-
-/// The flat indices (ascending) of shard K of N: every point of the ξ lines l with l mod N = K − 1
-/// (whole lines, so that each shard keeps its continuation chains).
-fn shard_indices(axes: &Axes, index: usize, count: usize) -> Vec<usize> {
-    let stride = line_stride(axes);
-    (0..axes.len())
-        .filter(|i| (i % stride) % count == index - 1)
-        .collect()
-}
-
 /// Joins the shards 1..=N of one build into the full table. They must come from the same parameters, axes
 /// and model version and cover every part exactly once. The arrays equal those of a build in one piece.
 pub fn merge(mut shards: Vec<(TableFiles, &Path)>) -> Result<TableFiles> {
@@ -260,7 +246,7 @@ pub fn merge(mut shards: Vec<(TableFiles, &Path)>) -> Result<TableFiles> {
     let mut threads = 0;
     for (t, path) in &shards {
         let k = t.sidecar.shard.map_or(1, |s| s.index);
-        let indices = shard_indices(&axes, k, count);
+        let indices = shard_indices(&axes, ShardRecord { index: k, count });
         if indices.len() != t.converged.len() || t.outputs.iter().any(|o| o.len() != indices.len())
         {
             return Err(corrupt(

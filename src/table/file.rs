@@ -497,7 +497,7 @@ impl TableFiles {
                         format!("invalid shard {}/{}", s.index, s.count),
                     ));
                 }
-                vec![shard_len(axes.len(), s)]
+                vec![shard_len(&axes, s)]
             }
             None => axes.shape().to_vec(),
         };
@@ -522,9 +522,24 @@ impl TableFiles {
     }
 }
 
-/// Number of points of shard `s` of a table with `total` points.
-pub fn shard_len(total: usize, s: ShardRecord) -> usize {
-    (total + s.count - s.index) / s.count
+/// Distance in flat index between neighbours along ξ (the slowest axis): the number of ξ lines.
+pub fn line_stride(axes: &Axes) -> usize {
+    axes.len() / axes.0[0].points.len()
+}
+
+/// The flat indices (ascending) of shard K/N: every point of the ξ lines l (l = index mod line_stride)
+/// with l mod N = K − 1 — whole lines, so that each shard keeps its continuation chains (build.rs).
+pub fn shard_indices(axes: &Axes, s: ShardRecord) -> Vec<usize> {
+    let stride = line_stride(axes);
+    (0..axes.len())
+        .filter(|i| (i % stride) % s.count == s.index - 1)
+        .collect()
+}
+
+/// Number of points of shard `s` (1 ≤ K ≤ N) of a table with `axes`.
+pub fn shard_len(axes: &Axes, s: ShardRecord) -> usize {
+    let stride = line_stride(axes);
+    (stride + s.count - s.index) / s.count * axes.0[0].points.len()
 }
 
 /// Reads one array file: the bytes must hash to the recorded SHA-256 and hold an array of `shape`.
@@ -647,18 +662,39 @@ mod tests {
     }
 
     #[test]
-    fn shard_lengths_partition_the_points() {
-        for total in [1, 7, 12, 100] {
-            for count in 1..6 {
-                let sum: usize = (1..=count)
-                    .map(|index| shard_len(total, ShardRecord { index, count }))
-                    .sum();
-                assert_eq!(sum, total);
-                for index in 1..=count {
-                    let want = (0..total).filter(|i| i % count == index - 1).count();
-                    assert_eq!(shard_len(total, ShardRecord { index, count }), want);
+    fn shards_partition_the_points_into_whole_xi_lines() {
+        use crate::table::{AxesSpec, AxisSpec};
+        let pts = |p: &[f64]| {
+            Some(AxisSpec {
+                points: Some(p.to_vec()),
+                ..Default::default()
+            })
+        };
+        let axes = Axes::from_spec(&AxesSpec {
+            creepage_x: pts(&[0.0, 0.01, 0.05, 0.1]),
+            creepage_y: pts(&[0.0, 0.001, 0.005, 0.01]),
+            spin: pts(&[-1.0, -0.1, 0.1, 1.0]),
+            normal_force: pts(&[50e3, 100e3]),
+            speed: pts(&[10.0, 30.0]),
+            wetness: pts(&[0.0, 1.0]),
+        })
+        .unwrap();
+        let stride = line_stride(&axes);
+        assert_eq!(stride * 4, axes.len());
+        for count in [1, 2, 5, 7, stride, stride + 3] {
+            let mut seen = vec![0; axes.len()];
+            for index in 1..=count {
+                let s = ShardRecord { index, count };
+                let idx = shard_indices(&axes, s);
+                assert_eq!(idx.len(), shard_len(&axes, s));
+                assert!(idx.windows(2).all(|w| w[0] < w[1]));
+                for i in &idx {
+                    seen[*i] += 1;
+                    // the whole ξ line of every point is in the shard
+                    assert!(idx.contains(&(i % stride)));
                 }
             }
+            assert!(seen.iter().all(|n| *n == 1), "count {count}");
         }
     }
 }
