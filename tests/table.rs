@@ -512,3 +512,31 @@ fn point_by_table_has_the_exact_keys_and_agrees_at_table_points() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("outside the table's ranges"));
     cleanup("pt-");
 }
+
+/// The default table committed under fmu/resources/table (bundled in the FMU) is for the default
+/// parameters and agrees with the present exact solver: a table left stale by a model change fails here.
+#[test]
+fn the_bundled_default_table_agrees_with_the_exact_solver() {
+    use wheelrail::table::verify::{sample_points, verify};
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fmu/resources/table");
+    let t = Table::load(&dir).unwrap_or_else(|e| {
+        panic!(
+            "the default table must be committed at {} (`make table`): {e}",
+            dir.display()
+        )
+    });
+    assert!(
+        t.matches(&Params::default()),
+        "the bundled table was built for other parameters than the defaults"
+    );
+    assert!(t.sidecar().unconverged.is_empty());
+    // random points over the whole ranges and cell midpoints
+    let report = verify(&t, &sample_points(&t, 200, 2026), &|| ()).unwrap();
+    assert_eq!(report.compared, 200, "{report:?}");
+    assert!(
+        report.meets_target(),
+        "table against the exact solver: |ΔF|/F_N p99 {:.2e}, max {:.2e} (target 0.01, 0.03)",
+        report.force.p99,
+        report.force.max
+    );
+}

@@ -54,6 +54,13 @@ pub fn solve_with_retry(
     solve(&retry, point)
 }
 
+/// What a table build keeps of one solved point.
+struct PointResult {
+    outputs: [f64; OUTPUTS],
+    converged: bool,
+    residual: f64,
+}
+
 /// The stored outputs of a solution: F_x/F_N, F_y/F_N, M_z/(F_N·c(F_N)), T_max [K], fluid load fraction.
 pub fn normalised(s: &Solution, normal_force: f64, scale: &MomentScale) -> [f64; OUTPUTS] {
     let g = &s.global;
@@ -91,7 +98,9 @@ pub fn build(
     // solved in parallel and their results put back in index order
     let stride = line_stride(axes);
     let lines: Vec<usize> = indices.iter().filter(|&&i| i < stride).copied().collect();
-    let mut solved: Vec<(usize, Result<Solution>)> = lines
+    // per point only what the table keeps (a full solution holds ~100 kB of fields): the normalised
+    // outputs and the convergence report, or the error's text
+    let mut solved: Vec<(usize, std::result::Result<PointResult, String>)> = lines
         .par_iter()
         .with_max_len(1)
         .flat_map_iter(|&line| {
@@ -99,46 +108,45 @@ pub fn build(
             (line..axes.len())
                 .step_by(stride)
                 .map(|i| {
-                    let r = solve_with_retry(
-                        params,
-                        &operating_point(&axes.coordinates(i)),
-                        warm.as_ref(),
-                    );
+                    let point = operating_point(&axes.coordinates(i));
+                    let r = solve_with_retry(params, &point, warm.as_ref());
                     warm = r.as_ref().ok().and_then(Solution::warm_start);
                     on_point();
-                    (i, r)
+                    let kept = r
+                        .map(|sol| PointResult {
+                            outputs: normalised(&sol, point.normal_force, &scale),
+                            converged: sol.report.converged,
+                            residual: sol.report.residual,
+                        })
+                        .map_err(|e| format!("{point:?}: {e}"));
+                    (i, kept)
                 })
                 .collect::<Vec<_>>()
         })
         .collect();
     solved.sort_by_key(|(i, _)| *i);
-    let results = solved.into_iter().map(|(_, r)| r);
     let mut outputs: Vec<Vec<f64>> = (0..OUTPUTS)
         .map(|_| Vec::with_capacity(indices.len()))
         .collect();
     let mut converged = Vec::with_capacity(indices.len());
     let mut unconverged = Vec::new();
     let mut failures = Vec::new();
-    for (&i, r) in indices.iter().zip(results) {
-        let point = operating_point(&axes.coordinates(i));
+    for (i, r) in solved {
         match r {
-            Ok(sol) => {
-                for (o, v) in outputs
-                    .iter_mut()
-                    .zip(normalised(&sol, point.normal_force, &scale))
-                {
+            Ok(p) => {
+                for (o, v) in outputs.iter_mut().zip(p.outputs) {
                     o.push(v);
                 }
-                converged.push(u8::from(sol.report.converged));
-                if !sol.report.converged {
+                converged.push(u8::from(p.converged));
+                if !p.converged {
                     unconverged.push(UnconvergedRecord {
                         index: i,
-                        point,
-                        residual: sol.report.residual,
+                        point: operating_point(&axes.coordinates(i)),
+                        residual: p.residual,
                     });
                 }
             }
-            Err(e) => failures.push(format!("{point:?}: {e}")),
+            Err(e) => failures.push(e),
         }
     }
     if !failures.is_empty() {

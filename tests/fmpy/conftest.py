@@ -50,11 +50,16 @@ def fmu_path():
     return str(FMU)
 
 
-def cli_point(**values):
-    """`wheelrail point --json` on the test grid for FMU-named inputs and parameters."""
+TABLE = ROOT / "fmu" / "resources" / "table"
+
+
+def cli_point(table=False, **values):
+    """`wheelrail point --json` for FMU-named inputs and parameters: on the test grid, or (table=True) by
+    the default lookup table that the FMU bundles."""
     if not CLI.exists():
         pytest.fail(f"{CLI} is missing: build it with `make build`")
-    args = [str(CLI), "point", "--json", "--grid", f"{GRID},{GRID}"]
+    args = [str(CLI), "point", "--json"]
+    args += ["--table", str(TABLE)] if table else ["--grid", f"{GRID},{GRID}"]
     for name, value in values.items():
         args += [CLI_FLAGS[name], repr(float(value))]
     out = subprocess.run(args, check=True, capture_output=True, text=True).stdout

@@ -53,3 +53,23 @@ def test_outputs_equal_the_cli_for_the_same_inputs(fmu_path, warm_start, rtol):
         assert row["evaluation_mode"] == 2
     # the wet segment carries part of the load on the fluid, the dry ones none
     assert result["fluid_load_fraction"][-1] > 0.0 and result["fluid_load_fraction"][0] == 0.0
+
+
+def test_auto_mode_evaluates_by_the_bundled_table(fmu_path):
+    """Default parameters and mode: the FMU's bundled table evaluates, exactly as `wheelrail point --table`."""
+    result = simulate_fmu(
+        fmu_path,
+        stop_time=3.0,
+        output_interval=0.5,
+        input=signals(),
+        output=list(CLI_OUTPUTS) + ["converged", "evaluation_mode"],
+    )
+    expected_at = {0.0: 0, 1.0: 0, 2.0: 1, 3.0: 2}
+    for t, k in expected_at.items():
+        row = result[np.isclose(result["time"], t)][-1]
+        reference = cli_point(table=True, **SEGMENTS[k])
+        assert reference["evaluation"] == "table"
+        for fmu_name, cli_name in CLI_OUTPUTS.items():
+            np.testing.assert_allclose(row[fmu_name], reference[cli_name], rtol=1e-12, atol=1e-9,
+                                       err_msg=f"{fmu_name} at t = {t}")
+        assert row["evaluation_mode"] == 1 and bool(row["converged"])
