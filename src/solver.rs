@@ -19,6 +19,9 @@ use crate::tangential::{Creepages, Flexibilities, TractionField, fastsim, kalker
 use crate::thermal::{HeatModel, HeatSolution};
 use serde::Serialize;
 
+/// Most halvings of temperature updates in one solve (see [`SolverReport::temperature_backtracks`]).
+const MAX_BACKTRACKS: usize = 20;
+
 /// Why the outer iteration stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -48,6 +51,8 @@ pub struct SolverReport {
     pub fluid_sweeps: usize,
     /// Residual of the last fluid film solve (0 without fluid).
     pub fluid_residual: f64,
+    /// Times a temperature update was halved back because the fluid film had no solution at it.
+    pub temperature_backtracks: usize,
 }
 
 /// Global results of one operating point (SI units, kelvin).
@@ -433,6 +438,8 @@ pub fn solve_from(
     let mut prev_increment: Option<Vec<f64>> = None;
     let mut omega = params.solver.relaxation;
     let mut film: Option<FilmSolution> = warm.and_then(WarmStart::film);
+    // the temperature before the last update, to step back to if the film fails at the new one
+    let mut last_temperature: Option<Vec<f64>> = None;
     // last heat partition: warm start of the next one
     let mut heat_solution: Option<HeatSolution> = None;
     let mut report = SolverReport {
@@ -443,6 +450,7 @@ pub fn solve_from(
         max_microcontact_iterations: 0,
         fluid_sweeps: 0,
         fluid_residual: 0.0,
+        temperature_backtracks: 0,
     };
     let (local, traction, heat_wheel) = loop {
         report.iterations += 1;
@@ -458,13 +466,38 @@ pub fn solve_from(
             } else {
                 fluid_tol
             };
-        let local = setup.local(
+        let local = match setup.local(
             &mats,
             dry_guess.as_deref(),
             film.as_ref(),
             inner_tol,
             &mut report,
-        )?;
+        ) {
+            Ok(l) => l,
+            // the film has no solution at the temperature of an overshooting update (e.g. above 1800 K
+            // after the first, unrelaxed step of a hot point): step back halfway towards the previous
+            // temperature and damp the relaxation (a backtracking line search on the fixed point)
+            Err(Error::Numerical { stage: "fluid", .. })
+                if report.temperature_backtracks < MAX_BACKTRACKS && last_temperature.is_some() =>
+            {
+                let last = last_temperature.as_ref().expect("checked above");
+                for (t, l) in temperature.iter_mut().zip(last) {
+                    *t = 0.5 * (*t + l);
+                }
+                omega *= 0.5;
+                film = None;
+                report.temperature_backtracks += 1;
+                if report.iterations >= params.solver.max_iterations {
+                    return Err(Error::Numerical {
+                        stage: "coupled solver",
+                        reason: "the fluid film has no solution along the temperature iteration"
+                            .into(),
+                    });
+                }
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
         for c in 0..n {
             tau_l[c] = if tomberger {
                 k_fail[c] = friction::failure_stress_factor(
@@ -545,6 +578,7 @@ pub fn solve_from(
                 omega = (-omega * num / den).clamp(0.02, 1.0);
             }
         }
+        last_temperature = Some(temperature.clone());
         for (t, d) in temperature.iter_mut().zip(&increment) {
             *t += omega * d;
         }
@@ -745,6 +779,7 @@ fn solve_polach(
             max_microcontact_iterations: 0,
             fluid_sweeps: 0,
             fluid_residual: 0.0,
+            temperature_backtracks: 0,
         },
     })
 }

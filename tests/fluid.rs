@@ -128,3 +128,30 @@ fn traction_falls_monotonically_with_wetness_at_30_m_s() {
         last = f;
     }
 }
+
+/// A hot, heavily loaded, barely wet point (ξ = 10 %, 200 kN, 100 m/s, w = 0.0015): the first, unrelaxed
+/// temperature update overshoots to ~1800 K where the film has no solution; the outer iteration steps back
+/// (temperature_backtracks) and converges to a wet solution no more frictional than the dry one.
+#[test]
+fn a_hot_heavily_loaded_barely_wet_point_converges() {
+    let p = Params::default();
+    let pt = OperatingPoint {
+        creepage_x: 0.1,
+        creepage_y: 0.006938319246036665,
+        spin: 1.0,
+        normal_force: 200e3,
+        speed: 100.0,
+        wetness: 0.0015,
+    };
+    let wet = solve(&p, &pt).unwrap();
+    let dry = solve(&p, &OperatingPoint { wetness: 0.0, ..pt }).unwrap();
+    assert!(
+        wet.report.converged && dry.report.converged,
+        "{:?}",
+        wet.report
+    );
+    let g = &wet.global;
+    assert!(g.traction_coefficient <= dry.global.traction_coefficient + 1e-6);
+    assert!((0.0..1.0).contains(&g.fluid_load_fraction));
+    assert!(g.fluid_mass_balance_error.abs() < 1e-6);
+}
