@@ -51,7 +51,8 @@ pub struct SolverReport {
     pub fluid_sweeps: usize,
     /// Residual of the last fluid film solve (0 without fluid).
     pub fluid_residual: f64,
-    /// Times a temperature update was halved back because the fluid film had no solution at it.
+    /// Times the fluid film had no solution at a temperature update, so that the update was halved back
+    /// and the film restarted cold (or, from a warm start, just restarted cold).
     pub temperature_backtracks: usize,
 }
 
@@ -477,12 +478,15 @@ pub fn solve_from(
             // the film has no solution at the temperature of an overshooting update (e.g. above 1800 K
             // after the first, unrelaxed step of a hot point): step back halfway towards the previous
             // temperature and damp the relaxation (a backtracking line search on the fixed point)
+            // (from a warm start, before any update: the film restarts cold at the same temperature)
             Err(Error::Numerical { stage: "fluid", .. })
-                if report.temperature_backtracks < MAX_BACKTRACKS && last_temperature.is_some() =>
+                if report.temperature_backtracks < MAX_BACKTRACKS
+                    && (last_temperature.is_some() || film.is_some()) =>
             {
-                let last = last_temperature.as_ref().expect("checked above");
-                for (t, l) in temperature.iter_mut().zip(last) {
-                    *t = 0.5 * (*t + l);
+                if let Some(last) = &last_temperature {
+                    for (t, l) in temperature.iter_mut().zip(last) {
+                        *t = 0.5 * (*t + l);
+                    }
                 }
                 omega *= 0.5;
                 film = None;

@@ -43,7 +43,7 @@ struct BuildArgs {
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "table")]
     out: PathBuf,
-    /// Build only part K of N (1 ≤ K ≤ N: the points whose index mod N is K − 1), e.g. one task of a
+    /// Build only part K of N (1 ≤ K ≤ N: the whole ξ lines l with l mod N = K − 1), e.g. one task of a
     /// cluster array job; join the parts with `wheelrail table merge`.
     #[arg(long, value_name = "K/N")]
     shard: Option<String>,

@@ -35,15 +35,19 @@ pub fn operating_point(c: &[f64; DIMS]) -> OperatingPoint {
     }
 }
 
-/// Solves one point exactly (from `warm`, a neighbouring point's state, if given); if the coupled iteration
-/// does not converge, once more from a cold start with four times the iteration and fluid-sweep limits and
+/// Solves one point exactly (from `warm`, a neighbouring point's state, if given; if that fails, cold); if
+/// the coupled iteration does not converge, once more from a cold start with four times the iteration and fluid-sweep limits and
 /// half the initial relaxation. The returned solution may still be unconverged (its report says so).
 pub fn solve_with_retry(
     params: &Params,
     point: &OperatingPoint,
     warm: Option<&WarmStart>,
 ) -> Result<Solution> {
-    let s = solve_from(params, point, warm)?;
+    // a warm start that fails outright is retried cold before anything else
+    let s = match solve_from(params, point, warm) {
+        Err(_) if warm.is_some() => solve(params, point)?,
+        r => r?,
+    };
     if s.report.converged {
         return Ok(s);
     }

@@ -499,6 +499,32 @@ pub(crate) fn synthetic(
     Table::from_files(files, None).unwrap()
 }
 
+/// A small table's axes around the default operating point (3·3·4·2·2·2 = 288 points: |ξ|, η ≤ 1 %,
+/// |φ| ≤ 0.5 1/m, F_N 80–120 kN, V 20–40 m/s, w ≤ 0.2), built in about a second on a coarse grid: for
+/// examples, tests and benchmarks of table evaluation (the lookup cost does not depend on the table's size
+/// or grid).
+pub fn small_axes() -> Axes {
+    let pts = |p: &[f64]| {
+        Some(AxisSpec {
+            points: Some(p.to_vec()),
+            ..Default::default()
+        })
+    };
+    Axes::from_spec(&AxesSpec {
+        creepage_x: Some(AxisSpec {
+            points: Some(vec![0.0, 0.002, 0.01]),
+            mirrored: Some(true),
+            ..Default::default()
+        }),
+        creepage_y: pts(&[0.0, 0.002, 0.01]),
+        spin: pts(&[-0.5, -0.1, 0.1, 0.5]),
+        normal_force: pts(&[80e3, 120e3]),
+        speed: pts(&[20.0, 40.0]),
+        wetness: pts(&[0.0, 0.2]),
+    })
+    .expect("valid axes")
+}
+
 /// The smallest valid axes (3·3·4·2·2·2 = 288 points).
 #[cfg(test)]
 pub(crate) fn tiny_axes() -> Axes {

@@ -493,28 +493,9 @@ mod tests {
     /// A small table for the FMU's default parameters on a 6 × 6 grid, written to a temporary directory.
     fn table_dir() -> PathBuf {
         use std::sync::OnceLock;
-        use wheelrail::table::{Axes, AxesSpec, AxisSpec};
         static DIR: OnceLock<PathBuf> = OnceLock::new();
         DIR.get_or_init(|| {
-            let pts = |p: &[f64]| {
-                Some(AxisSpec {
-                    points: Some(p.to_vec()),
-                    ..Default::default()
-                })
-            };
-            let axes = Axes::from_spec(&AxesSpec {
-                creepage_x: Some(AxisSpec {
-                    points: Some(vec![0.0, 0.002, 0.01]),
-                    mirrored: Some(true),
-                    ..Default::default()
-                }),
-                creepage_y: pts(&[0.0, 0.002, 0.01]),
-                spin: pts(&[-0.5, -0.1, 0.1, 0.5]),
-                normal_force: pts(&[80e3, 120e3]),
-                speed: pts(&[20.0, 40.0]),
-                wetness: pts(&[0.0, 0.2]),
-            })
-            .unwrap();
+            let axes = wheelrail::table::small_axes();
             let mut v = Values::start(&VARIABLES);
             v.set(GRID_SIZE, Value::Integer(6));
             let params = WheelRailModel::params(&v).unwrap();
