@@ -306,28 +306,6 @@ impl Table {
         Ok((out, jac))
     }
 
-    /// [`Table::core_impl`], on CPUs with AVX2 compiled a second time for them and chosen at run time (the
-    /// portable build targets SSE2). The arithmetic is the same operations in the same order (no fused
-    /// multiply-adds, no reassociation), so both give the same bits; only the vector width differs.
-    fn core<const JAC: bool>(&self, q: &[f64; DIMS]) -> Core {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked just above), the only requirement of core_avx2
-            return unsafe { self.core_avx2::<JAC>(q) };
-        }
-        self.core_impl::<JAC>(q)
-    }
-
-    /// [`Table::core_impl`] compiled for AVX2.
-    ///
-    /// # Safety
-    /// The CPU must support AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn core_avx2<const JAC: bool>(&self, q: &[f64; DIMS]) -> Core {
-        self.core_impl::<JAC>(q)
-    }
-
     /// Tensor-product interpolation at stored-quadrant coordinates `q` (inside the ranges).
     ///
     /// At each of the 4 × 4 (ξ, η) window points and the two ends of the φ interval, the 2×2×2 linear
@@ -338,7 +316,7 @@ impl Table {
     /// mirror-image point (φ index reversed by the η mirror, which also reverses the φ slope) with the
     /// symmetry's output signs.
     #[inline(always)]
-    fn core_impl<const JAC: bool>(&self, q: &[f64; DIMS]) -> Core {
+    fn core<const JAC: bool>(&self, q: &[f64; DIMS]) -> Core {
         let cx = self.interp[XI].cubic(q[XI]);
         let cy = self.interp[ETA].cubic(q[ETA]);
         let (k0, hw, hdw) = self.interp[PHI].cubic(q[PHI]).hermite();
@@ -663,21 +641,6 @@ mod tests {
                     );
                 }
             }
-        }
-    }
-
-    #[test]
-    fn the_run_time_dispatched_kernel_gives_the_portable_kernels_bits() {
-        let t = synthetic(&tiny_axes(), &polach(), &symmetric_saturating);
-        let mut rng = verify::SplitMix64::new(11);
-        for _ in 0..500 {
-            // stored-quadrant coordinates inside the ranges
-            let mut q = random_coordinates(&mut rng);
-            q[XI] = q[XI].abs();
-            q[ETA] = q[ETA].abs();
-            let (a, b) = (t.core::<true>(&q), t.core_impl::<true>(&q));
-            assert_eq!((a.v, a.d, a.converged), (b.v, b.d, b.converged), "{q:?}");
-            assert_eq!(t.core::<false>(&q).v, t.core_impl::<false>(&q).v);
         }
     }
 
