@@ -477,54 +477,52 @@ pub(crate) fn synthetic(
     Table::from_files(files, None).unwrap()
 }
 
+/// Axes with explicit points per dimension (ξ, η, φ, F_N, V, w), ξ mirrored (stored ξ ≥ 0).
+fn explicit_axes(points: [&[f64]; DIMS]) -> Axes {
+    let spec = |d: usize| {
+        Some(AxisSpec {
+            points: Some(points[d].to_vec()),
+            mirrored: (d == XI).then_some(true),
+            ..Default::default()
+        })
+    };
+    Axes::from_spec(&AxesSpec {
+        creepage_x: spec(0),
+        creepage_y: spec(1),
+        spin: spec(2),
+        normal_force: spec(3),
+        speed: spec(4),
+        wetness: spec(5),
+    })
+    .expect("valid axes")
+}
+
 /// A small table's axes around the default operating point (3·3·4·2·2·2 = 288 points: |ξ|, η ≤ 1 %,
 /// |φ| ≤ 0.5 1/m, F_N 80–120 kN, V 20–40 m/s, w ≤ 0.2), built in about a second on a coarse grid: for
 /// examples, tests and benchmarks of table evaluation (the lookup cost does not depend on the table's size
 /// or grid).
 pub fn small_axes() -> Axes {
-    let pts = |p: &[f64]| {
-        Some(AxisSpec {
-            points: Some(p.to_vec()),
-            ..Default::default()
-        })
-    };
-    Axes::from_spec(&AxesSpec {
-        creepage_x: Some(AxisSpec {
-            points: Some(vec![0.0, 0.002, 0.01]),
-            mirrored: Some(true),
-            ..Default::default()
-        }),
-        creepage_y: pts(&[0.0, 0.002, 0.01]),
-        spin: pts(&[-0.5, -0.1, 0.1, 0.5]),
-        normal_force: pts(&[80e3, 120e3]),
-        speed: pts(&[20.0, 40.0]),
-        wetness: pts(&[0.0, 0.2]),
-    })
-    .expect("valid axes")
+    explicit_axes([
+        &[0.0, 0.002, 0.01],
+        &[0.0, 0.002, 0.01],
+        &[-0.5, -0.1, 0.1, 0.5],
+        &[80e3, 120e3],
+        &[20.0, 40.0],
+        &[0.0, 0.2],
+    ])
 }
 
-/// The smallest valid axes (3·3·4·2·2·2 = 288 points).
+/// The smallest valid axes (3·3·4·2·2·2 = 288 points), wider than [`small_axes`].
 #[cfg(test)]
 pub(crate) fn tiny_axes() -> Axes {
-    let pts = |p: &[f64]| {
-        Some(AxisSpec {
-            points: Some(p.to_vec()),
-            ..Default::default()
-        })
-    };
-    Axes::from_spec(&AxesSpec {
-        creepage_x: Some(AxisSpec {
-            points: Some(vec![0.0, 0.005, 0.05]),
-            mirrored: Some(true),
-            ..Default::default()
-        }),
-        creepage_y: pts(&[0.0, 0.003, 0.02]),
-        spin: pts(&[-1.0, -0.2, 0.2, 1.0]),
-        normal_force: pts(&[50e3, 100e3]),
-        speed: pts(&[10.0, 30.0]),
-        wetness: pts(&[0.0, 1.0]),
-    })
-    .unwrap()
+    explicit_axes([
+        &[0.0, 0.005, 0.05],
+        &[0.0, 0.003, 0.02],
+        &[-1.0, -0.2, 0.2, 1.0],
+        &[50e3, 100e3],
+        &[10.0, 30.0],
+        &[0.0, 1.0],
+    ])
 }
 
 /// Error for an operating point the table cannot evaluate (kept for callers that want a typed reason).
