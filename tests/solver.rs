@@ -230,3 +230,22 @@ fn a_continuation_sweep_equals_independent_solves() {
         assert!(d < 1e-6, "{pt:?}: sweep differs from cold by {d}");
     }
 }
+
+#[test]
+fn a_sweep_gives_the_same_bits_whatever_the_thread_count() {
+    let p = Params::default();
+    let points: Vec<OperatingPoint> = (0..20)
+        .map(|k| dry(0.0005 * (k + 1) as f64, 30.0))
+        .collect();
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| wheelrail::solver::solve_sweep(&p, &points))
+            .into_iter()
+            .map(|s| s.unwrap().global)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(run(1), run(3));
+}
