@@ -339,44 +339,37 @@ impl Table {
                 dl[2][c] = a * b * lin[2].dw[n];
             }
         }
-        // stages 0 and 1: values [i][j][o] after φ, with derivatives [i][j][o][F_N, V, w, φ]
-        let mut c1 = [[[0.0; OUTPUTS]; 4]; 4];
+        // the corners come in w-pairs of adjacent rows (w is the last dimension, s5 = 1)
+        debug_assert_eq!(s5, 1);
+        let pairs: [usize; 4] = std::array::from_fn(|p| off[2 * p]);
+        let flat = self.rows.as_flattened();
+        // stages 0 and 1: values [j][i·OUTPUTS + o] after φ (the layout of the η stage's lanes), with
+        // derivatives [i][j][o][F_N, V, w, φ]
+        let mut c1 = [[0.0; 4 * OUTPUTS]; 4];
         let mut t1 = [[[[0.0; 4]; OUTPUTS]; 4]; 4];
         let mut converged = true;
         for i in 0..4 {
             let gi = cx.start + i as isize;
             let (ii, fx) = (gi.unsigned_abs(), gi < 0);
-            for j in 0..4 {
+            for (j, c1j) in c1.iter_mut().enumerate() {
                 let gj = cy.start + j as isize;
                 let (jj, fy) = (gj.unsigned_abs(), gj < 0);
                 // symmetry signs of ghost points: ξ-mirror flips F_x, η-mirror flips F_y and M_z (values)
                 // and reverses φ (slopes flip once more)
-                let mut sign = [1.0; ROW];
-                if fx {
-                    sign[0] = -1.0;
-                    sign[OUTPUTS] = -1.0;
-                }
-                if fy {
-                    for o in 0..OUTPUTS {
-                        sign[OUTPUTS + o] = -sign[OUTPUTS + o];
-                    }
-                    for o in [1, 2] {
-                        sign[o] = -sign[o];
-                        sign[OUTPUTS + o] = -sign[OUTPUTS + o];
-                    }
-                }
+                let sx = if fx { -1.0 } else { 1.0 };
+                let sy = if fy { -1.0 } else { 1.0 };
+                let sv = [sx, sy, sy, 1.0, 1.0];
+                let sd = [sx * sy, 1.0, 1.0, sy, sy];
                 let mut acc = [[0.0; ROW]; 2];
                 let mut acc_d = [[[0.0; 3]; ROW]; 2];
                 for (e, (a, ad)) in acc.iter_mut().zip(acc_d.iter_mut()).enumerate() {
                     let gk = k0 + e as isize;
                     let kk = if fy { n_phi - 1 - gk } else { gk } as usize;
                     let base = ii * s0 + jj * s1 + kk * s2;
-                    for c in 0..8 {
-                        let row = &self.rows[base + off[c]];
-                        for o in 0..ROW {
-                            a[o] += wl[c] * row[o];
-                        }
-                        if JAC {
+                    *a = corner_sum(flat, base, &pairs, &wl);
+                    if JAC {
+                        for (c, o) in off.iter().enumerate() {
+                            let row = &self.rows[base + o];
                             for o in 0..ROW {
                                 for (k, dlk) in dl.iter().enumerate() {
                                     ad[o][k] += dlk[c] * row[o];
@@ -388,15 +381,24 @@ impl Table {
                         converged &= off.iter().all(|o| self.converged[base + o] == 1);
                     }
                 }
+                // the Hermite weights with the signs folded in (exact: the signs are ±1)
+                let hs: [[f64; OUTPUTS]; 4] = std::array::from_fn(|k| {
+                    std::array::from_fn(|o| hw[k] * if k % 2 == 0 { sv[o] } else { sd[o] })
+                });
                 for o in 0..OUTPUTS {
-                    let (y0, d0) = (sign[o] * acc[0][o], sign[OUTPUTS + o] * acc[0][OUTPUTS + o]);
-                    let (y1, d1) = (sign[o] * acc[1][o], sign[OUTPUTS + o] * acc[1][OUTPUTS + o]);
-                    c1[i][j][o] = hw[0] * y0 + hw[1] * d0 + hw[2] * y1 + hw[3] * d1;
-                    if JAC {
+                    c1j[i * OUTPUTS + o] = hs[0][o] * acc[0][o]
+                        + hs[1][o] * acc[0][OUTPUTS + o]
+                        + hs[2][o] * acc[1][o]
+                        + hs[3][o] * acc[1][OUTPUTS + o];
+                }
+                if JAC {
+                    for o in 0..OUTPUTS {
+                        let (y0, d0) = (sv[o] * acc[0][o], sd[o] * acc[0][OUTPUTS + o]);
+                        let (y1, d1) = (sv[o] * acc[1][o], sd[o] * acc[1][OUTPUTS + o]);
                         for k in 0..3 {
-                            t1[i][j][o][k] = sign[o]
+                            t1[i][j][o][k] = sv[o]
                                 * (hw[0] * acc_d[0][o][k] + hw[2] * acc_d[1][o][k])
-                                + sign[OUTPUTS + o]
+                                + sd[o]
                                     * (hw[1] * acc_d[0][OUTPUTS + o][k]
                                         + hw[3] * acc_d[1][OUTPUTS + o][k]);
                         }
@@ -405,41 +407,61 @@ impl Table {
                 }
             }
         }
-        // stage 2: along η; derivatives (F_N, V, w, φ, η)
+        // stage 2: along η, all 4·OUTPUTS fibres at once; derivatives (F_N, V, w, φ, η)
         let mut c2 = [[0.0; OUTPUTS]; 4];
         let mut t2 = [[[0.0; 5]; OUTPUTS]; 4];
-        for i in 0..4 {
-            for o in 0..OUTPUTS {
-                let y = std::array::from_fn(|j| c1[i][j][o]);
-                if JAC {
-                    let f = cy.eval(&y);
+        if JAC {
+            for i in 0..4 {
+                for o in 0..OUTPUTS {
+                    let f = cy.eval(&std::array::from_fn(|j| c1[j][i * OUTPUTS + o]));
                     c2[i][o] = f.v;
                     for a in 0..4 {
                         t2[i][o][a] = (0..4).map(|j| f.w[j] * t1[i][j][o][a]).sum();
                     }
                     t2[i][o][4] = f.dv;
-                } else {
-                    c2[i][o] = cy.value(&y);
                 }
+            }
+        } else {
+            let flat = cy.value(&c1);
+            for (i, c) in c2.iter_mut().enumerate() {
+                c.copy_from_slice(&flat[i * OUTPUTS..(i + 1) * OUTPUTS]);
             }
         }
         // stage 3: along ξ
         let mut v = [0.0; OUTPUTS];
         let mut d = [[0.0; DIMS]; OUTPUTS];
-        for o in 0..OUTPUTS {
-            let y = std::array::from_fn(|i| c2[i][o]);
-            if JAC {
-                let f = cx.eval(&y);
+        if JAC {
+            for o in 0..OUTPUTS {
+                let f = cx.eval(&std::array::from_fn(|i| c2[i][o]));
                 v[o] = f.v;
                 let t: [f64; 5] =
                     std::array::from_fn(|a| (0..4).map(|i| f.w[i] * t2[i][o][a]).sum());
                 d[o] = [f.dv, t[4], t[3], t[0], t[1], t[2]];
-            } else {
-                v[o] = cx.value(&y);
             }
+        } else {
+            v = cx.value(&c2);
         }
         Core { v, d, converged }
     }
+}
+
+/// Σ_c w_c·row(base + off_c) over the eight linear (F_N, V, w) corners, in the order c = 0..8 (w fastest),
+/// with the corners given as four w-pairs of adjacent rows starting at `base + pairs[p]` of the flattened
+/// rows: one bounds check per pair, fixed-size rows that stay in registers.
+#[inline(always)]
+fn corner_sum(flat: &[f64], base: usize, pairs: &[usize; 4], wl: &[f64; 8]) -> [f64; ROW] {
+    let mut a = [0.0; ROW];
+    for (p, w) in pairs.iter().zip(wl.chunks_exact(2)) {
+        let s = (base + p) * ROW;
+        let (r0, r1) = flat[s..s + 2 * ROW].split_at(ROW);
+        for o in 0..ROW {
+            a[o] += w[0] * r0[o];
+        }
+        for o in 0..ROW {
+            a[o] += w[1] * r1[o];
+        }
+    }
+    a
 }
 
 /// (ξ, η, φ, F_N, V, w) of an operating point.
