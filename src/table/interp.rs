@@ -54,14 +54,13 @@ pub struct CubicStencil {
 /// (sign s_l + sign s_r)·min(|s_l|, |s_r|, ½|p|), p = α·s_l + (1 − α)·s_r.
 #[inline(always)]
 fn interior_slope(sl: f64, sr: f64, alpha: f64) -> f64 {
-    if sl * sr <= 0.0 {
-        return 0.0;
-    }
+    // branch-free (a select), so that lane loops over several fibres vectorise
     let p = alpha * sl + (1.0 - alpha) * sr;
-    (2.0 * sl.abs())
+    let m = (2.0 * sl.abs())
         .min(2.0 * sr.abs())
         .min(p.abs())
-        .copysign(sl)
+        .copysign(sl);
+    if sl * sr <= 0.0 { 0.0 } else { m }
 }
 
 /// Steffen's slope at an end node from the adjacent secant s0, the next one s1 and f = h_0/(h_0 + h_1):
@@ -69,11 +68,8 @@ fn interior_slope(sl: f64, sr: f64, alpha: f64) -> f64 {
 #[inline(always)]
 fn end_slope(s0: f64, s1: f64, f: f64) -> f64 {
     let p = s0 * (1.0 + f) - s1 * f;
-    if p * s0 <= 0.0 {
-        0.0
-    } else {
-        p.abs().min(2.0 * s0.abs()).copysign(s0)
-    }
+    let m = p.abs().min(2.0 * s0.abs()).copysign(s0);
+    if p * s0 <= 0.0 { 0.0 } else { m }
 }
 
 /// Steffen's slopes at all points of a (non-mirrored) axis `x` for the values `y` (at least 3 points):
@@ -159,28 +155,38 @@ impl CubicStencil {
         c
     }
 
-    /// The spline's value for the window values `y` (the value of [`CubicStencil::eval`], faster).
+    /// The spline's values for `L` fibres at once, window values `y[j][lane]` (per lane the value of
+    /// [`CubicStencil::eval`], faster: no weights, and the lanes vectorise).
     #[inline(always)]
-    pub fn value(&self, y: &[f64; 4]) -> f64 {
-        let a = self.a;
-        let ih = &self.inv_h;
-        let s = [
-            (y[1] - y[0]) * ih[0],
-            (y[2] - y[1]) * ih[1],
-            (y[3] - y[2]) * ih[2],
-        ];
-        let da = if self.first {
-            end_slope(s[a], s[a + 1], self.mix[0])
-        } else {
-            interior_slope(s[a - 1], s[a], self.mix[0])
-        };
-        let db = if self.last {
-            end_slope(s[a], s[a - 1], self.mix[1])
-        } else {
-            interior_slope(s[a], s[a + 1], self.mix[1])
-        };
+    pub fn value<const L: usize>(&self, y: &[[f64; L]; 4]) -> [f64; L] {
+        match self.a {
+            0 => self.value_at::<0, L>(y),
+            1 => self.value_at::<1, L>(y),
+            _ => self.value_at::<2, L>(y),
+        }
+    }
+
+    /// [`CubicStencil::value`] on the interval between window nodes A and A + 1 (A = 0: first interval of
+    /// the axis, A = 2: last): the three secants of the window and Steffen's slopes at the interval's ends.
+    #[inline(always)]
+    fn value_at<const A: usize, const L: usize>(&self, y: &[[f64; L]; 4]) -> [f64; L] {
+        let [i0, i1, i2] = self.inv_h;
+        let [m0, m1] = self.mix;
         let [h00, h10, h01, h11] = self.basis;
-        h00 * y[a] + h01 * y[a + 1] + self.h * (h10 * da + h11 * db)
+        let h = self.h;
+        let mut out = [0.0; L];
+        for (l, v) in out.iter_mut().enumerate() {
+            let s0 = (y[1][l] - y[0][l]) * i0;
+            let s1 = (y[2][l] - y[1][l]) * i1;
+            let s2 = (y[3][l] - y[2][l]) * i2;
+            let (da, db) = match A {
+                0 => (end_slope(s0, s1, m0), interior_slope(s0, s1, m1)),
+                1 => (interior_slope(s0, s1, m0), interior_slope(s1, s2, m1)),
+                _ => (interior_slope(s1, s2, m0), end_slope(s2, s1, m1)),
+            };
+            *v = h00 * y[A][l] + h01 * y[A + 1][l] + h * (h10 * da + h11 * db);
+        }
+        out
     }
 
     /// For slopes given at the points: the first point of the interval (stored index), and the weights of
@@ -490,7 +496,10 @@ mod tests {
             let st = ai.cubic(x);
             let win: [f64; 4] = std::array::from_fn(|r| y[(st.start + r as isize) as usize]);
             let fib = st.eval(&win);
-            assert!((st.value(&win) - fib.v).abs() < 1e-14, "x {x}");
+            assert!(
+                (st.value(&win.map(|v| [v]))[0] - fib.v).abs() < 1e-14,
+                "x {x}"
+            );
             let (i, w, dw) = st.hermite();
             let i = i as usize;
             let v = w[0] * y[i] + w[1] * d[i] + w[2] * y[i + 1] + w[3] * d[i + 1];

@@ -62,6 +62,12 @@ pub const JACOBIAN_ROWS: usize = 6;
 /// Values per stored point in memory: the outputs and their slopes along φ.
 const ROW: usize = 2 * OUTPUTS;
 
+/// Positions in a row of output o's value and of its φ slope: values and slopes of outputs 0–1 and 2–3
+/// alternate in pairs, then output 4's value and slope. So the pairs a 16-byte vector holds are both
+/// values or both slopes (or output 4's value and slope), which keeps the Hermite stage in registers.
+const VAL: [usize; OUTPUTS] = [0, 1, 4, 5, 8];
+const SLOPE: [usize; OUTPUTS] = [2, 3, 6, 7, 9];
+
 /// Interpolated normalised outputs and their derivatives with respect to the (mirrored, clamped)
 /// coordinates.
 struct Core {
@@ -77,8 +83,8 @@ pub struct Table {
     interp: [AxisInterp; DIMS],
     /// Row strides of the dimensions in `rows`.
     strides: [usize; DIMS],
-    /// Per point, in C order over the axes: the outputs, then their monotone slopes along φ
-    /// (precomputed, see `core`).
+    /// Per point, in C order over the axes: the outputs and their monotone slopes along φ (precomputed,
+    /// see `core`), at the positions `VAL` and `SLOPE`.
     rows: Vec<[f64; ROW]>,
     converged: Vec<u8>,
     all_converged: bool,
@@ -124,13 +130,11 @@ impl Table {
         }
         let mut rows: Vec<[f64; ROW]> = (0..n)
             .map(|i| {
-                std::array::from_fn(|o| {
-                    if o < OUTPUTS {
-                        files.outputs[o][i]
-                    } else {
-                        0.0
-                    }
-                })
+                let mut r = [0.0; ROW];
+                for (o, v) in VAL.iter().enumerate() {
+                    r[*v] = files.outputs[o][i];
+                }
+                r
             })
             .collect();
         // Steffen slopes along φ of every fibre (fixed ξ, η, F_N, V, w) and output
@@ -140,11 +144,11 @@ impl Table {
         for first in (0..n).filter(|i| (i / sp) % np == 0) {
             for o in 0..OUTPUTS {
                 for (k, v) in y.iter_mut().enumerate() {
-                    *v = rows[first + k * sp][o];
+                    *v = rows[first + k * sp][VAL[o]];
                 }
                 interp::node_slopes(phi, &y, &mut d);
                 for (k, v) in d.iter().enumerate() {
-                    rows[first + k * sp][OUTPUTS + o] = *v;
+                    rows[first + k * sp][SLOPE[o]] = *v;
                 }
             }
         }
@@ -339,44 +343,71 @@ impl Table {
                 dl[2][c] = a * b * lin[2].dw[n];
             }
         }
-        // stages 0 and 1: values [i][j][o] after φ, with derivatives [i][j][o][F_N, V, w, φ]
-        let mut c1 = [[[0.0; OUTPUTS]; 4]; 4];
+        // the corners come in w-pairs of adjacent rows (w is the last dimension, s5 = 1)
+        debug_assert_eq!(s5, 1);
+        let pairs: [usize; 4] = std::array::from_fn(|p| off[2 * p]);
+        let flat = self.rows.as_flattened();
+        // stages 0 and 1: values [j][i·OUTPUTS + o] after φ (the layout of the η stage's lanes), with
+        // derivatives [i][j][o][F_N, V, w, φ]
+        let mut c1 = [[0.0; 4 * OUTPUTS]; 4];
         let mut t1 = [[[[0.0; 4]; OUTPUTS]; 4]; 4];
         let mut converged = true;
+        // prefetch the corner pairs of ξ window node i + 1 (all η, both φ ends) while node i is computed: on a
+        // table far larger than the caches the loads then find their lines on the way
+        let prefetch = |i: isize| {
+            #[cfg(target_arch = "x86_64")]
+            {
+                use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+                let p0 = flat.as_ptr().cast::<i8>();
+                let ii = (cx.start + i).unsigned_abs();
+                for j in 0..4 {
+                    let gj = cy.start + j as isize;
+                    let jj = gj.unsigned_abs();
+                    for e in 0..2 {
+                        let gk = k0 + e as isize;
+                        let kk = if gj < 0 { n_phi - 1 - gk } else { gk } as usize;
+                        let base = ii * s0 + jj * s1 + kk * s2;
+                        for p in pairs {
+                            let ptr = p0.wrapping_add((base + p) * ROW * 8);
+                            // SAFETY: a prefetch is only a hint: it never faults and changes no memory
+                            // (the addresses are those of the pair's 2·ROW values in any case).
+                            unsafe {
+                                _mm_prefetch::<_MM_HINT_T0>(ptr);
+                                _mm_prefetch::<_MM_HINT_T0>(ptr.wrapping_add(64));
+                                _mm_prefetch::<_MM_HINT_T0>(ptr.wrapping_add(128));
+                                _mm_prefetch::<_MM_HINT_T0>(ptr.wrapping_add(2 * ROW * 8 - 1));
+                            }
+                        }
+                    }
+                }
+            }
+        };
+
         for i in 0..4 {
+            if i < 3 {
+                prefetch(i as isize + 1);
+            }
             let gi = cx.start + i as isize;
             let (ii, fx) = (gi.unsigned_abs(), gi < 0);
-            for j in 0..4 {
+            for (j, c1j) in c1.iter_mut().enumerate() {
                 let gj = cy.start + j as isize;
                 let (jj, fy) = (gj.unsigned_abs(), gj < 0);
                 // symmetry signs of ghost points: ξ-mirror flips F_x, η-mirror flips F_y and M_z (values)
                 // and reverses φ (slopes flip once more)
-                let mut sign = [1.0; ROW];
-                if fx {
-                    sign[0] = -1.0;
-                    sign[OUTPUTS] = -1.0;
-                }
-                if fy {
-                    for o in 0..OUTPUTS {
-                        sign[OUTPUTS + o] = -sign[OUTPUTS + o];
-                    }
-                    for o in [1, 2] {
-                        sign[o] = -sign[o];
-                        sign[OUTPUTS + o] = -sign[OUTPUTS + o];
-                    }
-                }
+                let sx = if fx { -1.0 } else { 1.0 };
+                let sy = if fy { -1.0 } else { 1.0 };
+                let sv = [sx, sy, sy, 1.0, 1.0];
+                let sd = [sx * sy, 1.0, 1.0, sy, sy];
                 let mut acc = [[0.0; ROW]; 2];
                 let mut acc_d = [[[0.0; 3]; ROW]; 2];
                 for (e, (a, ad)) in acc.iter_mut().zip(acc_d.iter_mut()).enumerate() {
                     let gk = k0 + e as isize;
                     let kk = if fy { n_phi - 1 - gk } else { gk } as usize;
                     let base = ii * s0 + jj * s1 + kk * s2;
-                    for c in 0..8 {
-                        let row = &self.rows[base + off[c]];
-                        for o in 0..ROW {
-                            a[o] += wl[c] * row[o];
-                        }
-                        if JAC {
+                    *a = corner_sum(flat, base, &pairs, &wl);
+                    if JAC {
+                        for (c, o) in off.iter().enumerate() {
+                            let row = &self.rows[base + o];
                             for o in 0..ROW {
                                 for (k, dlk) in dl.iter().enumerate() {
                                     ad[o][k] += dlk[c] * row[o];
@@ -388,58 +419,87 @@ impl Table {
                         converged &= off.iter().all(|o| self.converged[base + o] == 1);
                     }
                 }
+                // the Hermite weights with the signs folded in (exact: the signs are ±1)
+                let hs: [[f64; OUTPUTS]; 4] = std::array::from_fn(|k| {
+                    std::array::from_fn(|o| hw[k] * if k % 2 == 0 { sv[o] } else { sd[o] })
+                });
                 for o in 0..OUTPUTS {
-                    let (y0, d0) = (sign[o] * acc[0][o], sign[OUTPUTS + o] * acc[0][OUTPUTS + o]);
-                    let (y1, d1) = (sign[o] * acc[1][o], sign[OUTPUTS + o] * acc[1][OUTPUTS + o]);
-                    c1[i][j][o] = hw[0] * y0 + hw[1] * d0 + hw[2] * y1 + hw[3] * d1;
-                    if JAC {
+                    c1j[i * OUTPUTS + o] = hs[0][o] * acc[0][VAL[o]]
+                        + hs[1][o] * acc[0][SLOPE[o]]
+                        + hs[2][o] * acc[1][VAL[o]]
+                        + hs[3][o] * acc[1][SLOPE[o]];
+                }
+                if JAC {
+                    for o in 0..OUTPUTS {
+                        let (y0, d0) = (sv[o] * acc[0][VAL[o]], sd[o] * acc[0][SLOPE[o]]);
+                        let (y1, d1) = (sv[o] * acc[1][VAL[o]], sd[o] * acc[1][SLOPE[o]]);
                         for k in 0..3 {
-                            t1[i][j][o][k] = sign[o]
-                                * (hw[0] * acc_d[0][o][k] + hw[2] * acc_d[1][o][k])
-                                + sign[OUTPUTS + o]
-                                    * (hw[1] * acc_d[0][OUTPUTS + o][k]
-                                        + hw[3] * acc_d[1][OUTPUTS + o][k]);
+                            t1[i][j][o][k] = sv[o]
+                                * (hw[0] * acc_d[0][VAL[o]][k] + hw[2] * acc_d[1][VAL[o]][k])
+                                + sd[o]
+                                    * (hw[1] * acc_d[0][SLOPE[o]][k]
+                                        + hw[3] * acc_d[1][SLOPE[o]][k]);
                         }
                         t1[i][j][o][3] = hdw[0] * y0 + hdw[1] * d0 + hdw[2] * y1 + hdw[3] * d1;
                     }
                 }
             }
         }
-        // stage 2: along η; derivatives (F_N, V, w, φ, η)
+        // stage 2: along η, all 4·OUTPUTS fibres at once; derivatives (F_N, V, w, φ, η)
         let mut c2 = [[0.0; OUTPUTS]; 4];
         let mut t2 = [[[0.0; 5]; OUTPUTS]; 4];
-        for i in 0..4 {
-            for o in 0..OUTPUTS {
-                let y = std::array::from_fn(|j| c1[i][j][o]);
-                if JAC {
-                    let f = cy.eval(&y);
+        if JAC {
+            for i in 0..4 {
+                for o in 0..OUTPUTS {
+                    let f = cy.eval(&std::array::from_fn(|j| c1[j][i * OUTPUTS + o]));
                     c2[i][o] = f.v;
                     for a in 0..4 {
                         t2[i][o][a] = (0..4).map(|j| f.w[j] * t1[i][j][o][a]).sum();
                     }
                     t2[i][o][4] = f.dv;
-                } else {
-                    c2[i][o] = cy.value(&y);
                 }
+            }
+        } else {
+            let flat = cy.value(&c1);
+            for (i, c) in c2.iter_mut().enumerate() {
+                c.copy_from_slice(&flat[i * OUTPUTS..(i + 1) * OUTPUTS]);
             }
         }
         // stage 3: along ξ
         let mut v = [0.0; OUTPUTS];
         let mut d = [[0.0; DIMS]; OUTPUTS];
-        for o in 0..OUTPUTS {
-            let y = std::array::from_fn(|i| c2[i][o]);
-            if JAC {
-                let f = cx.eval(&y);
+        if JAC {
+            for o in 0..OUTPUTS {
+                let f = cx.eval(&std::array::from_fn(|i| c2[i][o]));
                 v[o] = f.v;
                 let t: [f64; 5] =
                     std::array::from_fn(|a| (0..4).map(|i| f.w[i] * t2[i][o][a]).sum());
                 d[o] = [f.dv, t[4], t[3], t[0], t[1], t[2]];
-            } else {
-                v[o] = cx.value(&y);
             }
+        } else {
+            v = cx.value(&c2);
         }
         Core { v, d, converged }
     }
+}
+
+/// Σ_c w_c·row(base + off_c) over the eight linear (F_N, V, w) corners, in the order c = 0..8 (w fastest),
+/// with the corners given as four w-pairs of adjacent rows starting at `base + pairs[p]` of the flattened
+/// rows: one bounds check per pair, fixed-size rows that stay in registers.
+#[inline(always)]
+fn corner_sum(flat: &[f64], base: usize, pairs: &[usize; 4], wl: &[f64; 8]) -> [f64; ROW] {
+    let mut a = [0.0; ROW];
+    for (p, w) in pairs.iter().zip(wl.chunks_exact(2)) {
+        let s = (base + p) * ROW;
+        let (r0, r1) = flat[s..s + 2 * ROW].split_at(ROW);
+        for o in 0..ROW {
+            a[o] += w[0] * r0[o];
+        }
+        for o in 0..ROW {
+            a[o] += w[1] * r1[o];
+        }
+    }
+    a
 }
 
 /// (ξ, η, φ, F_N, V, w) of an operating point.
@@ -681,6 +741,87 @@ mod tests {
                         fd[o]
                     );
                 }
+            }
+        }
+    }
+
+    /// The in-memory row layout (values and φ slopes interleaved, corners read as w-pairs) against a direct
+    /// evaluation of the node values in C order: Steffen slopes along φ per corner fibre (mirror images for
+    /// ghost η nodes), Hermite along φ, linear corners, then the η and ξ fibres with their weights.
+    #[test]
+    fn row_layout_matches_a_direct_evaluation_of_the_node_values() {
+        let params = polach();
+        let mut axes = tiny_axes();
+        axes.0[XI].points = vec![0.0, 0.001, 0.003, 0.01, 0.03, 0.05];
+        let t = synthetic(&axes, &params, &symmetric_saturating);
+        let shape = axes.shape();
+        let vals: Vec<[f64; OUTPUTS]> = (0..axes.len())
+            .map(|k| symmetric_saturating(&axes.coordinates(k)))
+            .collect();
+        let idx = |m: [usize; DIMS]| m.iter().zip(&shape).fold(0, |a, (i, s)| a * s + i);
+        let phi = &axes.0[PHI].points;
+        let np = phi.len();
+        let mut rng = verify::SplitMix64::new(5);
+        for _ in 0..300 {
+            let mut q = random_coordinates(&mut rng);
+            q[XI] = q[XI].abs();
+            q[ETA] = q[ETA].abs();
+            let cx = t.interp[XI].cubic(q[XI]);
+            let cy = t.interp[ETA].cubic(q[ETA]);
+            let (k0, hw, _) = t.interp[PHI].cubic(q[PHI]).hermite();
+            let k0 = k0 as usize;
+            let lin: [LinearStencil; 3] =
+                std::array::from_fn(|k| t.interp[FORCE + k].linear(q[FORCE + k]));
+            let want: [f64; OUTPUTS] = std::array::from_fn(|o| {
+                let along_eta: [f64; 4] = std::array::from_fn(|i| {
+                    let gi = cx.start + i as isize;
+                    let along_phi: [f64; 4] = std::array::from_fn(|j| {
+                        let gj = cy.start + j as isize;
+                        let sign = if (gi < 0 && o == 0) != (gj < 0 && (o == 1 || o == 2)) {
+                            -1.0
+                        } else {
+                            1.0
+                        };
+                        (0..8)
+                            .map(|c| {
+                                let corner = [c >> 2, (c >> 1) & 1, c & 1];
+                                let fibre: Vec<f64> = (0..np)
+                                    .map(|k| {
+                                        let kk = if gj < 0 { np - 1 - k } else { k };
+                                        let m = [
+                                            gi.unsigned_abs(),
+                                            gj.unsigned_abs(),
+                                            kk,
+                                            lin[0].start + corner[0],
+                                            lin[1].start + corner[1],
+                                            lin[2].start + corner[2],
+                                        ];
+                                        sign * vals[idx(m)][o]
+                                    })
+                                    .collect();
+                                let mut d = vec![0.0; np];
+                                interp::node_slopes(phi, &fibre, &mut d);
+                                let w: f64 = (0..3).map(|a| lin[a].w[corner[a]]).product();
+                                w * (hw[0] * fibre[k0]
+                                    + hw[1] * d[k0]
+                                    + hw[2] * fibre[k0 + 1]
+                                    + hw[3] * d[k0 + 1])
+                            })
+                            .sum()
+                    });
+                    cy.eval(&along_phi).v
+                });
+                cx.eval(&along_eta).v
+            });
+            let got = t.core::<false>(&q).v;
+            for o in 0..OUTPUTS {
+                let scale = [1.0, 1.0, 0.1, 300.0, 0.3][o];
+                assert!(
+                    (got[o] - want[o]).abs() < 1e-13 * scale,
+                    "output {o} at {q:?}: {} vs {}",
+                    got[o],
+                    want[o]
+                );
             }
         }
     }
