@@ -98,6 +98,8 @@ pub struct WheelRailModel {
     resources: Option<PathBuf>,
     resolved: Option<Resolved>,
     wetness_warned: bool,
+    /// The parameter set and the parameter values it was built from (bit patterns).
+    params: Option<([u64; PARAMETERS.len() + 1], Params)>,
     /// The state of the last exact solve of `calculate` (parameter `warm_start`): the next exact solve
     /// starts from it. A cache: not part of the FMU state, forgotten by `fmi2Reset`.
     warm: Option<WarmStart>,
@@ -160,6 +162,21 @@ impl WheelRailModel {
             evaluator: evaluator.clone(),
         });
         Ok((evaluator, status))
+    }
+
+    /// The library's parameter set of the current parameters, built and validated once per change of
+    /// the parameter values (cached: a table-mode step costs well under a microsecond, and building and
+    /// validating a parameter set would be a third of it).
+    fn cached_params(&mut self, values: &Values) -> Result<Params, String> {
+        let key = param_key(values);
+        if let Some((k, p)) = &self.params
+            && *k == key
+        {
+            return Ok(p.clone());
+        }
+        let p = Self::params(values)?;
+        self.params = Some((key, p.clone()));
+        Ok(p)
     }
 
     /// The library's parameter set from the parameters (defaults for everything the FMU does not expose).
@@ -262,7 +279,7 @@ impl WheelRailModel {
         log: &Logger,
     ) -> Result<(Evaluation, i32, Status), String> {
         let (evaluator, mut status) = self.evaluator(values, log)?;
-        let params = Self::params(values)?;
+        let params = self.cached_params(values)?;
         let Some(solved) = self.solved(values, log, &mut status)? else {
             let lifted = Evaluation {
                 force_x: 0.0,
@@ -310,7 +327,7 @@ impl WheelRailModel {
         log: &Logger,
     ) -> Result<Option<Vec<f64>>, String> {
         let (evaluator, _) = self.evaluator(values, log)?;
-        let params = Self::params(values)?;
+        let params = self.cached_params(values)?;
         let mut status = Status::Ok;
         let Some(solved) = self.solved(values, log, &mut status)? else {
             return Ok(None);
@@ -344,6 +361,28 @@ impl WheelRailModel {
     }
 }
 
+/// The Real parameters the library's parameter set is built from ([`WheelRailModel::params`]).
+const PARAMETERS: [usize; 8] = [
+    ROUGHNESS,
+    CURVATURE_LONGITUDINAL,
+    CURVATURE_LATERAL,
+    BULK_TEMPERATURE,
+    K_WET,
+    FLOW_RESISTANCE,
+    PSI_B,
+    H_F_MAX,
+];
+
+/// The bit patterns of the parameter values and of `grid_size`: the key of the parameter-set cache.
+fn param_key(values: &Values) -> [u64; PARAMETERS.len() + 1] {
+    let mut key = [0; PARAMETERS.len() + 1];
+    for (k, i) in key.iter_mut().zip(PARAMETERS) {
+        *k = values.real(i).to_bits();
+    }
+    key[PARAMETERS.len()] = u64::from(values.integer(GRID_SIZE) as u32);
+    key
+}
+
 fn write_outputs(values: &mut Values, e: &Evaluation, mode: i32) {
     for (i, x) in [
         (FORCE_LONGITUDINAL, e.force_x),
@@ -369,6 +408,7 @@ impl Model for WheelRailModel {
             resources,
             resolved: None,
             wetness_warned: false,
+            params: None,
             warm: None,
             noticed: Vec::new(),
         }
@@ -377,6 +417,7 @@ impl Model for WheelRailModel {
     fn reset(&mut self) {
         self.resolved = None;
         self.wetness_warned = false;
+        self.params = None;
         self.warm = None;
         self.noticed.clear();
     }
