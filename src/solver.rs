@@ -10,7 +10,9 @@
 use crate::baselines::polach;
 use crate::contact::{ContactGrid, HertzContact};
 use crate::error::{Error, Result};
-use crate::fluid::{CellGeometry, FilmProblem, FilmSolution, Regime, base_height, solve_film};
+use crate::fluid::{
+    CellGeometry, FilmProblem, FilmSolution, FilmStart, Regime, base_height, solve_film,
+};
 use crate::friction;
 use crate::materials::MaterialState;
 use crate::microcontact::Microcontact;
@@ -199,7 +201,7 @@ impl Setup<'_> {
         &self,
         mats: &[MaterialState],
         dry_guess: Option<&[f64]>,
-        warm: Option<&FilmSolution>,
+        warm: Option<FilmStart>,
         fluid_tolerance: f64,
         report: &mut SolverReport,
     ) -> Result<Local> {
@@ -346,26 +348,14 @@ impl WarmStart {
     }
 
     /// The film as the film solver's starting iterate (None without fluid).
-    fn film(&self) -> Option<FilmSolution> {
-        let n = self.separation.len();
+    fn film(&self) -> Option<FilmStart<'_>> {
         self.fluid_height
             .iter()
             .any(|h| *h > 0.0)
-            .then(|| FilmSolution {
-                separation: self.separation.clone(),
-                fluid_pressure: self.fluid_pressure.clone(),
-                fluid_height: self.fluid_height.clone(),
-                void_height: vec![0.0; n],
-                area_fraction: vec![0.0; n],
-                metal_load: vec![0.0; n],
-                regime: vec![Regime::Dry; n],
-                iterations: 0,
-                balance_residual: f64::INFINITY,
-                residual: f64::INFINITY,
-                converged: false,
-                inflow: 0.0,
-                outflow: 0.0,
-                expelled: 0.0,
+            .then_some(FilmStart {
+                separation: &self.separation,
+                fluid_pressure: &self.fluid_pressure,
+                fluid_height: &self.fluid_height,
             })
     }
 }
@@ -438,7 +428,9 @@ pub fn solve_from(
     let mut prev_tau: Option<Vec<f64>> = None;
     let mut prev_increment: Option<Vec<f64>> = None;
     let mut omega = params.solver.relaxation;
-    let mut film: Option<FilmSolution> = warm.and_then(WarmStart::film);
+    // the film of the last outer iteration, or before the first the warm start's (dropped on a restart)
+    let mut film: Option<FilmSolution> = None;
+    let mut warm_film: Option<FilmStart> = warm.and_then(WarmStart::film);
     // the temperature before the last update, to step back to if the film fails at the new one
     let mut last_temperature: Option<Vec<f64>> = None;
     // last heat partition: warm start of the next one
@@ -470,7 +462,7 @@ pub fn solve_from(
         let local = match setup.local(
             &mats,
             dry_guess.as_deref(),
-            film.as_ref(),
+            film.as_ref().map(FilmSolution::as_start).or(warm_film),
             inner_tol,
             &mut report,
         ) {
@@ -490,6 +482,7 @@ pub fn solve_from(
                 }
                 omega *= 0.5;
                 film = None;
+                warm_film = None;
                 report.temperature_backtracks += 1;
                 if report.iterations >= params.solver.max_iterations {
                     return Err(Error::Numerical {
@@ -590,6 +583,7 @@ pub fn solve_from(
         prev_tau = Some(tau_l.clone());
         dry_guess = Some(local.dry_separation);
         film = local.film;
+        warm_film = None;
     };
     Ok(assemble(
         &hertz,

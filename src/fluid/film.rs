@@ -650,20 +650,51 @@ impl<'a> System<'a> {
     }
 }
 
+/// A starting film for [`solve_film`]: separation [m], fluid pressure [Pa] and fluid height [m] per cell,
+/// from a previous film solution or a previous operating point's fields on the same grid.
+#[derive(Debug, Clone, Copy)]
+pub struct FilmStart<'a> {
+    /// Separation d per cell [m].
+    pub separation: &'a [f64],
+    /// Fluid pressure p_f per cell [Pa].
+    pub fluid_pressure: &'a [f64],
+    /// Fluid height l_f per cell [m].
+    pub fluid_height: &'a [f64],
+}
+
+impl FilmSolution {
+    /// This film as the start of another solve.
+    pub fn as_start(&self) -> FilmStart<'_> {
+        FilmStart {
+            separation: &self.separation,
+            fluid_pressure: &self.fluid_pressure,
+            fluid_height: &self.fluid_height,
+        }
+    }
+}
+
 /// Solves the film for one outer iteration by the semismooth Newton method of the module documentation;
-/// `warm` (a previous solution on the same grid) is the starting film, otherwise every cell starts just
+/// `warm` (a previous film on the same grid) is the starting film, otherwise every cell starts just
 /// full without pressure (u = 0). Should Newton stall (no acceptable damped step, or more than
 /// NEWTON_LIMIT iterations), Gauss–Seidel sweeps take over from the same start (from an empty film when
 /// cold) with the rest of the iteration budget.
-pub fn solve_film(pr: &FilmProblem, warm: Option<&FilmSolution>) -> Result<FilmSolution> {
+pub fn solve_film(pr: &FilmProblem, warm: Option<FilmStart>) -> Result<FilmSolution> {
     let sys = System::new(pr)?;
     let n = sys.len();
     let start: Option<Vec<f64>> = match warm {
-        Some(w) if w.separation.len() == n => Some(
-            (0..n)
-                .map(|k| sys.unknown(k, w.separation[k], w.fluid_pressure[k], w.fluid_height[k]))
-                .collect(),
-        ),
+        Some(w)
+            if w.separation.len() == n
+                && w.fluid_pressure.len() == n
+                && w.fluid_height.len() == n =>
+        {
+            Some(
+                (0..n)
+                    .map(|k| {
+                        sys.unknown(k, w.separation[k], w.fluid_pressure[k], w.fluid_height[k])
+                    })
+                    .collect(),
+            )
+        }
         _ => None,
     };
     let limit = pr.max_iterations.min(NEWTON_LIMIT);
@@ -1034,7 +1065,7 @@ mod tests {
         let after = Case::heated(&pt, 20.0);
         let old = solve_film(&before.problem(1e-10, 100), None).unwrap();
         let cold = solve_film(&after.problem(1e-10, 100), None).unwrap();
-        let warm = solve_film(&after.problem(1e-10, 100), Some(&old)).unwrap();
+        let warm = solve_film(&after.problem(1e-10, 100), Some(old.as_start())).unwrap();
         assert!(cold.converged && warm.converged);
         assert!(
             distance(&old, &cold, &after) > 1e-6,
@@ -1043,7 +1074,7 @@ mod tests {
         assert!(distance(&warm, &cold, &after) < 1e-9);
         assert!(warm.iterations < cold.iterations);
         // restarting from the solution itself: one step, no change
-        let again = solve_film(&after.problem(1e-10, 100), Some(&warm)).unwrap();
+        let again = solve_film(&after.problem(1e-10, 100), Some(warm.as_start())).unwrap();
         assert_eq!(again.iterations, 1);
         assert!(again.converged && distance(&again, &warm, &after) < 1e-10);
     }
