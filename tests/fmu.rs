@@ -421,6 +421,22 @@ impl Fmu {
         unsafe { (fmi().do_step)(self.c, t, 1e-3, 1) }
     }
 
+    /// `fmi2GetDirectionalDerivative` of `unknown` with respect to `known` along `seed` into `out`.
+    fn derivative(&self, unknown: &[u32], known: &[u32], seed: &[f64], out: &mut [f64]) -> c_int {
+        assert!(known.len() == seed.len() && unknown.len() == out.len());
+        unsafe {
+            (fmi().directional_derivative)(
+                self.c,
+                unknown.as_ptr(),
+                unknown.len(),
+                known.as_ptr(),
+                known.len(),
+                seed.as_ptr(),
+                out.as_mut_ptr(),
+            )
+        }
+    }
+
     fn forces(&self) -> [f64; 3] {
         ["force_longitudinal", "force_lateral", "spin_moment"].map(|n| self.get(n))
     }
@@ -905,20 +921,7 @@ fn directional_derivatives_match_differences_and_kalkers_linear_stiffness() {
     let known = [vr("creepage_longitudinal"), vr("creepage_lateral")];
     let mut d = [0.0; 2];
     let seed = [1.0, 0.5];
-    assert_eq!(
-        unsafe {
-            (fmi().directional_derivative)(
-                f.c,
-                unknown.as_ptr(),
-                2,
-                known.as_ptr(),
-                2,
-                seed.as_ptr(),
-                d.as_mut_ptr(),
-            )
-        },
-        OK
-    );
+    assert_eq!(f.derivative(&unknown, &known, &seed, &mut d), OK);
     // central difference of the outputs along the same direction
     let h = 2e-5;
     let at = |s: f64| {
@@ -939,17 +942,7 @@ fn directional_derivatives_match_differences_and_kalkers_linear_stiffness() {
     assert_eq!(f.set("creepage_longitudinal", 1e-7), OK);
     assert_eq!(f.set("creepage_lateral", 0.0), OK);
     assert_eq!(
-        unsafe {
-            (fmi().directional_derivative)(
-                f.c,
-                unknown.as_ptr(),
-                1,
-                known.as_ptr(),
-                1,
-                [1.0].as_ptr(),
-                d.as_mut_ptr(),
-            )
-        },
+        f.derivative(&unknown[..1], &known[..1], &[1.0], &mut d[..1]),
         OK
     );
     let p = Params::default();
@@ -961,17 +954,7 @@ fn directional_derivatives_match_differences_and_kalkers_linear_stiffness() {
     // only Real outputs with respect to Real inputs
     let wrong = [vr("evaluation_mode")];
     assert_eq!(
-        unsafe {
-            (fmi().directional_derivative)(
-                f.c,
-                wrong.as_ptr(),
-                1,
-                known.as_ptr(),
-                1,
-                [1.0].as_ptr(),
-                d.as_mut_ptr(),
-            )
-        },
+        f.derivative(&wrong, &known[..1], &[1.0], &mut d[..1]),
         ERROR
     );
     let mut s = 0;
