@@ -148,30 +148,38 @@ impl Evaluator {
         }
     }
 
-    /// Which way `point` with `params` goes, and what to log about it (once per instance). Table-only mode
-    /// with other parameters than the table's is an error.
+    /// Whether a table evaluator's table was built for `params` (an exact evaluator: false).
+    pub fn matches(&self, params: &Params) -> bool {
+        match self {
+            Evaluator::Exact => false,
+            Evaluator::Table { table, .. } => table.matches(params),
+        }
+    }
+
+    /// Which way `point` goes, and what to log about it (once per instance), given whether the table was
+    /// built for the current parameters (`matches`, [`Evaluator::matches`]). Table-only mode with other
+    /// parameters than the table's is an error.
     pub fn route(
         &self,
-        params: &Params,
+        matches: bool,
         point: &OperatingPoint,
     ) -> Result<(Route<'_>, Option<Notice>), String> {
         let (table, mode) = match self {
             Evaluator::Exact => return Ok((Route::Exact, None)),
             Evaluator::Table { table, mode } => (table.as_ref(), *mode),
         };
-        let matches = table.matches(params);
         let inside = table.in_range(point);
         match mode {
             Mode::TableOnly if !matches => Err(format!(
                 "mode 1 (table only): the parameters differ from those the lookup table at {} was built for",
-                location(table)
+                table.location()
             )),
             Mode::TableOnly => Ok((Route::Table(table), (!inside).then_some(Notice::Clamped))),
             _ if !matches => Ok((
                 Route::Exact,
                 Some(Notice::FellBack(format!(
                     "the parameters differ from those the lookup table at {} was built for",
-                    location(table)
+                    table.location()
                 ))),
             )),
             _ if !inside => Ok((
@@ -184,17 +192,18 @@ impl Evaluator {
         }
     }
 
-    /// Evaluates one operating point: (results, evaluation_mode code 1 table / 2 exact, notice). An exact
-    /// solve uses the solver tolerance tightened to `tolerance` if given (the table is chosen by `params`
-    /// as they are), starts from `warm` if it holds a state and leaves its own state there.
+    /// Evaluates one operating point: (results, evaluation_mode code 1 table / 2 exact, notice). `matches`
+    /// tells whether the table was built for `params` ([`Evaluator::matches`]). An exact solve uses the
+    /// solver tolerance tightened to `tolerance` if given (the table is chosen by `params` as they are),
+    /// starts from `warm` if it holds a state and leaves its own state there.
     pub fn evaluate(
         &self,
-        params: &Params,
+        (params, matches): (&Params, bool),
         point: &OperatingPoint,
         tolerance: Option<f64>,
         warm: &mut Option<WarmStart>,
     ) -> Result<(Evaluation, i32, Option<Notice>), EvalError> {
-        let (route, notice) = self.route(params, point).map_err(EvalError::Mode)?;
+        let (route, notice) = self.route(matches, point).map_err(EvalError::Mode)?;
         match route {
             Route::Exact => {
                 let mut p = params.clone();
@@ -221,11 +230,6 @@ impl From<wheelrail::Error> for EvalError {
     fn from(e: wheelrail::Error) -> Self {
         EvalError::Library(e)
     }
-}
-
-fn location(t: &Table) -> String {
-    t.path()
-        .map_or_else(|| "<memory>".into(), |p| p.display().to_string())
 }
 
 /// Where the lookup table is: `table_file` if given, else `resources/table` of the unpacked FMU.

@@ -33,7 +33,7 @@ use crate::fmi2::ffi::Status;
 use crate::fmi2::logging::Logger;
 use crate::fmi2::model::{Model, ModelInfo};
 use crate::fmi2::variables::{Value, Values};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use wheelrail::solver::WarmStart;
 use wheelrail::{Error, OperatingPoint, Params};
 
@@ -86,20 +86,78 @@ fn translate(e: Error, values: &Values) -> String {
     }
 }
 
-/// The evaluator chosen for a (mode, table_file) pair.
-struct Resolved {
+/// What the current parameters give, rebuilt only when they change (a table-mode step costs a few hundred
+/// nanoseconds; resolving the table, building and validating a parameter set and comparing it with the
+/// table's would be a large part of it).
+struct Setup {
+    /// `mode` and `table_file` the evaluator was resolved for.
     mode: i32,
     table_file: String,
     evaluator: Evaluator,
+    /// The bit patterns of the parameter values `params` was built from.
+    key: ParamKey,
+    params: Params,
+    /// Whether the evaluator's table was built for `params`.
+    matches: bool,
+}
+
+impl Setup {
+    /// The setup of the current parameters: the cached one in `slot` if they have not changed, else one
+    /// rebuilt in its place. The evaluator is resolved again when `mode` or `table_file` change (logging
+    /// the auto-mode fallback warning once per change), the parameter set is built and validated again
+    /// when a parameter value changes.
+    fn current<'a>(
+        slot: &'a mut Option<Box<Setup>>,
+        resources: Option<&Path>,
+        values: &Values,
+        log: &Logger,
+    ) -> Result<(&'a Setup, Status), String> {
+        let (mode, table_file, key) = (
+            values.integer(MODE),
+            values.string(TABLE_FILE),
+            param_key(values),
+        );
+        let same_evaluator = |s: &Setup| s.mode == mode && s.table_file == table_file;
+        let mut status = Status::Ok;
+        let setup = match slot.take() {
+            Some(s) if same_evaluator(&s) && s.key == key => s,
+            old => {
+                let evaluator = match old.as_deref().filter(|s| same_evaluator(s)) {
+                    Some(s) => s.evaluator.clone(),
+                    None => {
+                        let location = table_location(table_file, resources);
+                        let (evaluator, warning) =
+                            resolve(Mode::from_code(mode)?, location.as_deref())?;
+                        if let Some(w) = warning {
+                            log.warning(&format!("mode 0 (auto): {w}"));
+                            status = Status::Warning;
+                        }
+                        evaluator
+                    }
+                };
+                let params = match old.filter(|s| s.key == key) {
+                    Some(s) => s.params,
+                    None => WheelRailModel::params(values)?,
+                };
+                Box::new(Setup {
+                    mode,
+                    table_file: table_file.to_string(),
+                    matches: evaluator.matches(&params),
+                    evaluator,
+                    key,
+                    params,
+                })
+            }
+        };
+        Ok((slot.insert(setup), status))
+    }
 }
 
 /// The WheelRailFriction model.
 pub struct WheelRailModel {
     resources: Option<PathBuf>,
-    resolved: Option<Resolved>,
+    setup: Option<Box<Setup>>,
     wetness_warned: bool,
-    /// The parameter set and the parameter values it was built from (bit patterns).
-    params: Option<([u64; PARAMETERS.len() + 1], Params)>,
     /// The state of the last exact solve of `calculate` (parameter `warm_start`): the next exact solve
     /// starts from it. A cache: not part of the FMU state, forgotten by `fmi2Reset`.
     warm: Option<WarmStart>,
@@ -137,48 +195,6 @@ struct Solved {
 }
 
 impl WheelRailModel {
-    /// The evaluator for the current `mode` and `table_file` (resolved again only when they change); logs
-    /// the auto-mode fallback warning once per change.
-    fn evaluator(&mut self, values: &Values, log: &Logger) -> Result<(Evaluator, Status), String> {
-        let (mode, table_file) = (values.integer(MODE), values.string(TABLE_FILE));
-        if let Some(r) = &self.resolved
-            && r.mode == mode
-            && r.table_file == table_file
-        {
-            return Ok((r.evaluator.clone(), Status::Ok));
-        }
-        let location = table_location(table_file, self.resources.as_deref());
-        let (evaluator, warning) = resolve(Mode::from_code(mode)?, location.as_deref())?;
-        let status = match warning {
-            Some(w) => {
-                log.warning(&format!("mode 0 (auto): {w}"));
-                Status::Warning
-            }
-            None => Status::Ok,
-        };
-        self.resolved = Some(Resolved {
-            mode,
-            table_file: table_file.to_string(),
-            evaluator: evaluator.clone(),
-        });
-        Ok((evaluator, status))
-    }
-
-    /// The library's parameter set of the current parameters, built and validated once per change of
-    /// the parameter values (cached: a table-mode step costs well under a microsecond, and building and
-    /// validating a parameter set would be a third of it).
-    fn cached_params(&mut self, values: &Values) -> Result<Params, String> {
-        let key = param_key(values);
-        if let Some((k, p)) = &self.params
-            && *k == key
-        {
-            return Ok(p.clone());
-        }
-        let p = Self::params(values)?;
-        self.params = Some((key, p.clone()));
-        Ok(p)
-    }
-
     /// The library's parameter set from the parameters (defaults for everything the FMU does not expose).
     fn params(values: &Values) -> Result<Params, String> {
         let mut p = Params::default();
@@ -199,10 +215,10 @@ impl WheelRailModel {
     }
 
     /// The operating point of the current inputs in the solved frame (None: the wheel is lifted). Clamps
-    /// the wetness to [0, 1] with one warning per instance.
+    /// the wetness to [0, 1] with one warning per instance (`wetness_warned`).
     fn solved(
-        &mut self,
         values: &Values,
+        wetness_warned: &mut bool,
         log: &Logger,
         status: &mut Status,
     ) -> Result<Option<Solved>, String> {
@@ -215,11 +231,11 @@ impl WheelRailModel {
         }
         let wetness = values.real(WETNESS);
         let clamped = wetness.clamp(0.0, 1.0);
-        if clamped != wetness && !self.wetness_warned {
+        if clamped != wetness && !*wetness_warned {
             log.warning(&format!(
                 "wetness = {wetness} is outside [0, 1] and is clamped to {clamped} (warned once)"
             ));
-            self.wetness_warned = true;
+            *wetness_warned = true;
             *status = Status::Warning;
         }
         let speed = values.real(ROLLING_SPEED);
@@ -278,21 +294,21 @@ impl WheelRailModel {
         keep: bool,
         log: &Logger,
     ) -> Result<(Evaluation, i32, Status), String> {
-        let (evaluator, mut status) = self.evaluator(values, log)?;
-        let params = self.cached_params(values)?;
-        let Some(solved) = self.solved(values, log, &mut status)? else {
+        let (setup, mut status) =
+            Setup::current(&mut self.setup, self.resources.as_deref(), values, log)?;
+        let Some(solved) = Self::solved(values, &mut self.wetness_warned, log, &mut status)? else {
             let lifted = Evaluation {
                 force_x: 0.0,
                 force_y: 0.0,
                 spin_moment: 0.0,
                 traction_coefficient: 0.0,
-                max_temperature: params.material.bulk_temperature,
+                max_temperature: setup.params.material.bulk_temperature,
                 fluid_load_fraction: 0.0,
                 converged: true,
                 iterations: 0,
                 residual: 0.0,
             };
-            return Ok((lifted, evaluator.code(), status));
+            return Ok((lifted, setup.evaluator.code(), status));
         };
         let warm_start = values.boolean(WARM_START);
         let mut warm = match (warm_start, keep) {
@@ -300,7 +316,12 @@ impl WheelRailModel {
             (true, true) => self.warm.take(),
             (true, false) => self.warm.clone(),
         };
-        let result = evaluator.evaluate(&params, &solved.point, tolerance, &mut warm);
+        let result = (setup.evaluator).evaluate(
+            (&setup.params, setup.matches),
+            &solved.point,
+            tolerance,
+            &mut warm,
+        );
         if warm_start && keep {
             self.warm = warm;
         }
@@ -326,13 +347,12 @@ impl WheelRailModel {
         seed: &[f64],
         log: &Logger,
     ) -> Result<Option<Vec<f64>>, String> {
-        let (evaluator, _) = self.evaluator(values, log)?;
-        let params = self.cached_params(values)?;
+        let (setup, _) = Setup::current(&mut self.setup, self.resources.as_deref(), values, log)?;
         let mut status = Status::Ok;
-        let Some(solved) = self.solved(values, log, &mut status)? else {
+        let Some(solved) = Self::solved(values, &mut self.wetness_warned, log, &mut status)? else {
             return Ok(None);
         };
-        let Route::Table(table) = evaluator.route(&params, &solved.point)?.0 else {
+        let Route::Table(table) = setup.evaluator.route(setup.matches, &solved.point)?.0 else {
             return Ok(None);
         };
         let (_, jac) = table
@@ -373,8 +393,11 @@ const PARAMETERS: [usize; 8] = [
     H_F_MAX,
 ];
 
-/// The bit patterns of the parameter values and of `grid_size`: the key of the parameter-set cache.
-fn param_key(values: &Values) -> [u64; PARAMETERS.len() + 1] {
+/// The bit patterns of the parameter values and of `grid_size`.
+type ParamKey = [u64; PARAMETERS.len() + 1];
+
+/// The key of the parameter-set cache ([`Setup`]).
+fn param_key(values: &Values) -> ParamKey {
     let mut key = [0; PARAMETERS.len() + 1];
     for (k, i) in key.iter_mut().zip(PARAMETERS) {
         *k = values.real(i).to_bits();
@@ -406,18 +429,16 @@ impl Model for WheelRailModel {
     fn new(resources: Option<PathBuf>) -> Self {
         WheelRailModel {
             resources,
-            resolved: None,
+            setup: None,
             wetness_warned: false,
-            params: None,
             warm: None,
             noticed: Vec::new(),
         }
     }
 
     fn reset(&mut self) {
-        self.resolved = None;
+        self.setup = None;
         self.wetness_warned = false;
-        self.params = None;
         self.warm = None;
         self.noticed.clear();
     }

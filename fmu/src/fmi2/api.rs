@@ -373,11 +373,8 @@ pub unsafe fn set<M: Model, T: Copy>(
     unsafe {
         call::<M>(c, function, state::SET, |inst| {
             let vrs = slice(vr, n, "vr[]")?;
-            let new = slice(value, n, "value[]")?
-                .iter()
-                .map(|v| convert(*v))
-                .collect::<Result<Vec<_>, _>>()?;
-            inst.set(vrs, new)
+            let values = slice(value, n, "value[]")?;
+            inst.set(vrs, |k| convert(values[k]))
         })
     }
 }

@@ -135,18 +135,13 @@ impl<M: Model> Instance<M> {
 
     /// Writes values: every value is checked first (known reference, settable causality in this state,
     /// finite Reals); one bad value rejects the whole call. Changing any value marks the outputs stale.
-    pub fn set(&mut self, vrs: &[u32], new: Vec<Value>) -> Outcome {
+    /// `value(k)` converts the k-th value of the call (called twice per value: to check, then to write; so
+    /// the call allocates nothing for numbers).
+    pub fn set(&mut self, vrs: &[u32], value: impl Fn(usize) -> Result<Value, Failure>) -> Outcome {
         let table = self.values.table();
-        let mut idx = Vec::with_capacity(vrs.len());
-        for (vr, value) in vrs.iter().zip(&new) {
-            let ty = match value {
-                Value::Real(_) => Type::Real,
-                Value::Integer(_) => Type::Integer,
-                Value::Boolean(_) => Type::Boolean,
-                Value::String(_) => Type::String,
-            };
-            let i = self.index(*vr, ty)?;
-            let var = &table[i];
+        for (k, vr) in vrs.iter().enumerate() {
+            let value = value(k)?;
+            let var = &table[self.index(*vr, value.kind())?];
             match var.causality {
                 Causality::Output => {
                     return Err(Failure::Rejected(format!(
@@ -170,9 +165,10 @@ impl<M: Model> Instance<M> {
                     var.name
                 )));
             }
-            idx.push(i);
         }
-        for (i, value) in idx.into_iter().zip(new) {
+        for (k, vr) in vrs.iter().enumerate() {
+            let value = value(k)?;
+            let i = self.index(*vr, value.kind())?;
             if self.values.list()[i] != value {
                 self.values.set(i, value);
                 self.stale = true;
