@@ -56,7 +56,10 @@ def main():
     if not found:
         sys.exit("no criterion results under target/criterion: run `make bench` first")
     def ratio(key, ref):
-        return f"{found[key] / found[ref]:,.1f}×" if ref in found else "n/a"
+        if ref not in found:
+            return "n/a"
+        r = found[key] / found[ref]
+        return f"{r:,.0f}×" if r >= 100 else f"{r:.3g}×"
 
     lines = ["| benchmark | mean time | ratio to Polach via solve | ratio to the bare Polach formula |",
              "|---|---:|---:|---:|"]
