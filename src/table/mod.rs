@@ -7,8 +7,9 @@
 //! - Stored outputs (see [`file::OUTPUT_INFO`]): F_x/F_N, F_y/F_N, M_z/(F_N·c) with c = sqrt(a·b) of Hertz,
 //!   T_max, fluid load fraction, and a converged flag per point. The traction coefficient is |F_T|/F_N of
 //!   the interpolated forces (the solver's definition, P2).
-//! - [`Table::evaluate`]: ≈ 0.3 µs (AVX-512/AVX2 kernel, [`Kernel`]), no allocation; [`Table::evaluate_with_jacobian`] adds the exact
-//!   derivatives of the interpolant for FMU directional derivatives.
+//! - [`Table::evaluate`]: ≈ 0.3 µs (AVX-512/AVX2 kernel, [`Kernel`]), no allocation;
+//!   [`Table::evaluate_with_jacobian`] adds the exact derivatives of the interpolant for FMU directional
+//!   derivatives.
 //! - [`Table::load_shared`]: one copy per file and process, shared read-only by all FMU instances.
 
 pub mod axes;
