@@ -35,23 +35,11 @@ impl Mode {
 /// The global results of one operating point, in the solved (forward-rolling) frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Evaluation {
-    /// F_x [N].
-    pub force_x: f64,
-    /// F_y [N].
-    pub force_y: f64,
-    /// M_z [N·m].
-    pub spin_moment: f64,
-    /// |F_T|/F_N [-].
-    pub traction_coefficient: f64,
-    /// Highest surface temperature [K].
-    pub max_temperature: f64,
-    /// Share of the load carried by the fluid [-].
-    pub fluid_load_fraction: f64,
-    /// Whether the coupled iteration met its tolerance.
-    pub converged: bool,
-    /// Outer iterations of the coupled solver.
+    /// The outputs in the table's form, from the table or from the exact solution (`in_range` true).
+    pub output: TableOutput,
+    /// Outer iterations of the coupled solver (0 by table).
     pub iterations: usize,
-    /// Final residual of the coupled solver.
+    /// Final residual of the coupled solver (0 by table).
     pub residual: f64,
 }
 
@@ -112,31 +100,19 @@ fn exact(
     *warm = s.warm_start();
     let g = &s.global;
     Ok(Evaluation {
-        force_x: g.force_x,
-        force_y: g.force_y,
-        spin_moment: g.spin_moment,
-        traction_coefficient: g.traction_coefficient,
-        max_temperature: g.max_temperature,
-        fluid_load_fraction: g.fluid_load_fraction,
-        converged: s.report.converged,
+        output: TableOutput {
+            force_x: g.force_x,
+            force_y: g.force_y,
+            spin_moment: g.spin_moment,
+            traction_coefficient: g.traction_coefficient,
+            max_temperature: g.max_temperature,
+            fluid_load_fraction: g.fluid_load_fraction,
+            in_range: true,
+            converged: s.report.converged,
+        },
         iterations: s.report.iterations,
         residual: s.report.residual,
     })
-}
-
-/// A table evaluation as an [`Evaluation`] (converged: every table point used converged when built).
-pub fn from_table(o: &TableOutput) -> Evaluation {
-    Evaluation {
-        force_x: o.force_x,
-        force_y: o.force_y,
-        spin_moment: o.spin_moment,
-        traction_coefficient: o.traction_coefficient,
-        max_temperature: o.max_temperature,
-        fluid_load_fraction: o.fluid_load_fraction,
-        converged: o.converged,
-        iterations: 0,
-        residual: 0.0,
-    }
 }
 
 impl Evaluator {
@@ -212,7 +188,18 @@ impl Evaluator {
                 }
                 Ok((exact(&p, point, warm)?, 2, notice))
             }
-            Route::Table(t) => Ok((from_table(&t.evaluate(point)?), 1, notice)),
+            Route::Table(t) => {
+                let output = t.evaluate(point)?;
+                Ok((
+                    Evaluation {
+                        output,
+                        iterations: 0,
+                        residual: 0.0,
+                    },
+                    1,
+                    notice,
+                ))
+            }
         }
     }
 }

@@ -35,6 +35,7 @@ use crate::fmi2::model::{Model, ModelInfo};
 use crate::fmi2::variables::{Value, Values};
 use std::path::{Path, PathBuf};
 use wheelrail::solver::WarmStart;
+use wheelrail::table::TableOutput;
 use wheelrail::{Error, OperatingPoint, Params};
 
 /// Normal force at or below which the wheel counts as lifted [N]: the library's smallest admissible load.
@@ -298,13 +299,16 @@ impl WheelRailModel {
             Setup::current(&mut self.setup, self.resources.as_deref(), values, log)?;
         let Some(solved) = Self::solved(values, &mut self.wetness_warned, log, &mut status)? else {
             let lifted = Evaluation {
-                force_x: 0.0,
-                force_y: 0.0,
-                spin_moment: 0.0,
-                traction_coefficient: 0.0,
-                max_temperature: setup.params.material.bulk_temperature,
-                fluid_load_fraction: 0.0,
-                converged: true,
+                output: TableOutput {
+                    force_x: 0.0,
+                    force_y: 0.0,
+                    spin_moment: 0.0,
+                    traction_coefficient: 0.0,
+                    max_temperature: setup.params.material.bulk_temperature,
+                    fluid_load_fraction: 0.0,
+                    in_range: true,
+                    converged: true,
+                },
                 iterations: 0,
                 residual: 0.0,
             };
@@ -332,8 +336,8 @@ impl WheelRailModel {
         if let Some(n) = notice {
             self.notice(n, log, &mut status);
         }
-        e.force_x *= solved.turn;
-        e.force_y *= solved.turn;
+        e.output.force_x *= solved.turn;
+        e.output.force_y *= solved.turn;
         Ok((e, code, status))
     }
 
@@ -408,17 +412,17 @@ fn param_key(values: &Values) -> ParamKey {
 
 fn write_outputs(values: &mut Values, e: &Evaluation, mode: i32) {
     for (i, x) in [
-        (FORCE_LONGITUDINAL, e.force_x),
-        (FORCE_LATERAL, e.force_y),
-        (SPIN_MOMENT, e.spin_moment),
-        (TRACTION_COEFFICIENT, e.traction_coefficient),
-        (MAX_TEMPERATURE, e.max_temperature),
-        (FLUID_LOAD_FRACTION, e.fluid_load_fraction),
+        (FORCE_LONGITUDINAL, e.output.force_x),
+        (FORCE_LATERAL, e.output.force_y),
+        (SPIN_MOMENT, e.output.spin_moment),
+        (TRACTION_COEFFICIENT, e.output.traction_coefficient),
+        (MAX_TEMPERATURE, e.output.max_temperature),
+        (FLUID_LOAD_FRACTION, e.output.fluid_load_fraction),
     ] {
         values.set(i, Value::Real(x));
     }
     values.set(EVALUATION_MODE, Value::Integer(mode));
-    values.set(CONVERGED, Value::Boolean(e.converged));
+    values.set(CONVERGED, Value::Boolean(e.output.converged));
 }
 
 impl Model for WheelRailModel {
@@ -445,7 +449,7 @@ impl Model for WheelRailModel {
 
     fn calculate(&mut self, values: &mut Values, log: &Logger) -> Result<Status, String> {
         let (e, mode, mut status) = self.evaluate(values, None, true, log)?;
-        if !e.converged {
+        if !e.output.converged {
             log.warning(&if mode == 1 {
                 "the lookup table's points around this operating point did not converge when the table was \
                  built; output converged = false"
