@@ -14,6 +14,7 @@ pub mod materials;
 pub mod microcontact;
 pub mod params;
 pub mod plot;
+pub mod quadrature;
 pub mod reproduce;
 pub mod solver;
 pub mod table;

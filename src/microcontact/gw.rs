@@ -15,8 +15,8 @@
 //! (∫_{c_p}^∞ u·φ0(h + u) du = φ0(x) − h·F0(x), x = h + c_p). For small c (hot, soft asperities) the
 //! elastic part is integrated directly over [0, c] instead, which avoids cancellation.
 
-use super::quadrature::GaussLegendre;
 use super::table::ReferenceIntegral;
+use crate::quadrature::gauss_legendre::GaussLegendre;
 
 /// ω_p/ω_c of the ZMC model.
 pub const PLASTIC_RATIO: f64 = 54.0;

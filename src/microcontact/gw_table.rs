@@ -27,7 +27,7 @@
 //! (below 1e−300) underflow to subnormal numbers.
 
 use super::gw::{H_ZERO, Integrals, Law};
-use super::quadrature::GaussLegendre;
+use crate::quadrature::gauss_legendre::GaussLegendre;
 use std::cell::Cell;
 use std::sync::{Mutex, OnceLock};
 

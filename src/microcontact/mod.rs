@@ -14,7 +14,6 @@
 
 mod gw;
 mod gw_table;
-mod quadrature;
 mod table;
 
 use crate::error::{Error, Result, check_finite, check_positive, check_range};
@@ -405,7 +404,7 @@ mod tests {
 
     /// One G7/K15 panel: (Kronrod value, |Kronrod − Gauss|).
     fn gk15(f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> (f64, f64) {
-        crate::thermal::quadrature::gauss_kronrod_15(&f, a, b)
+        crate::quadrature::gauss_kronrod::gauss_kronrod_15(&f, a, b)
     }
 
     /// Globally adaptive Gauss–Kronrod quadrature (slow reference): bisects the interval with the largest
@@ -764,7 +763,7 @@ mod tests {
             .unwrap();
         let mc = Microcontact::new(&roughness(k_r)).unwrap();
         let p_peak = 2.0 * force / (PI * hz.a * hz.b);
-        let rule = quadrature::GaussLegendre::new(48);
+        let rule = crate::quadrature::gauss_legendre::GaussLegendre::new(48);
         let mut sum = 0.0;
         for (x, w) in rule.nodes.iter().zip(&rule.weights) {
             let rho = 0.5 * (x + 1.0);

@@ -2,7 +2,7 @@
 //! (MODEL.md §4), the elastic Greenwood–Williamson load integral, tabulated once per process.
 
 use super::gw::{H_ZERO, phi0};
-use super::quadrature::GaussLegendre;
+use crate::quadrature::gauss_legendre::GaussLegendre;
 use std::sync::OnceLock;
 
 /// Lowest tabulated h (below −sqrt(2·TAIL) the evaluation never asks for the table).

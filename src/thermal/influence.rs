@@ -9,10 +9,12 @@
 //! with the 1/r singularity's logarithm subtracted and integrated analytically.
 
 use super::expint::exp_integral_e1;
-use super::quadrature::{Quadrature, integrate_adaptive, kronrod_nodes, kronrod_sum};
 use crate::contact::ContactGrid;
 use crate::error::{Error, Result, check_finite, check_positive};
 use crate::params::Material;
+use crate::quadrature::gauss_kronrod::{
+    Quadrature, integrate_adaptive, kronrod_nodes, kronrod_sum,
+};
 use std::f64::consts::PI;
 
 /// Relative accuracy asked of each influence coefficient (relative to the coefficient scale of the grid).

@@ -5,7 +5,6 @@ pub mod expint;
 pub mod influence;
 pub mod krylov;
 pub mod partition;
-pub mod quadrature;
 
 pub use influence::{InfluenceTable, MovingHalfSpace};
 pub use partition::{Body, HeatModel, HeatSolution};
