@@ -20,6 +20,18 @@ pub enum State {
     Error = 1 << 5,
 }
 
+impl State {
+    /// Every state.
+    pub const ALL: [State; 6] = [
+        State::Instantiated,
+        State::InitializationMode,
+        State::StepComplete,
+        State::StepFailed,
+        State::Terminated,
+        State::Error,
+    ];
+}
+
 /// A set of states.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Mask(u16);
@@ -44,14 +56,7 @@ impl Mask {
 use State::*;
 
 /// Every state an instance can be in.
-pub const ANY: Mask = Mask::of(&[
-    Instantiated,
-    InitializationMode,
-    StepComplete,
-    StepFailed,
-    Terminated,
-    Error,
-]);
+pub const ANY: Mask = Mask::of(&State::ALL);
 /// `fmi2SetupExperiment`, `fmi2EnterInitializationMode`.
 pub const SETUP: Mask = Mask::of(&[Instantiated]);
 /// `fmi2ExitInitializationMode`.
@@ -98,14 +103,7 @@ mod tests {
                 && !SET_FIXED_PARAMETER.allows(StepComplete)
         );
         assert!(!SET.allows(Error) && !SET.allows(Terminated));
-        for s in [
-            Instantiated,
-            InitializationMode,
-            StepComplete,
-            StepFailed,
-            Terminated,
-            Error,
-        ] {
+        for s in State::ALL {
             assert!(ANY.allows(s));
             assert!(!CANCEL_STEP.allows(s));
         }
