@@ -35,7 +35,7 @@ use crate::fmi2::model::{Model, ModelInfo};
 use crate::fmi2::variables::{Value, Values};
 use std::path::{Path, PathBuf};
 use wheelrail::solver::WarmStart;
-use wheelrail::table::TableOutput;
+use wheelrail::table::{Jacobian, TableOutput};
 use wheelrail::{Error, OperatingPoint, Params};
 
 /// Normal force at or below which the wheel counts as lifted [N]: the library's smallest admissible load.
@@ -100,6 +100,9 @@ struct Setup {
     params: Params,
     /// Whether the evaluator's table was built for `params`.
     matches: bool,
+    /// The table interpolant's Jacobian at the last point a directional derivative was asked for (a
+    /// master asks for one seed direction per call, all at the same point).
+    jacobian: Option<(OperatingPoint, Jacobian)>,
 }
 
 impl Setup {
@@ -112,7 +115,7 @@ impl Setup {
         resources: Option<&Path>,
         values: &Values,
         log: &Logger,
-    ) -> Result<(&'a Setup, Status), String> {
+    ) -> Result<(&'a mut Setup, Status), String> {
         let (mode, table_file, key) = (
             values.integer(MODE),
             values.string(TABLE_FILE),
@@ -147,6 +150,7 @@ impl Setup {
                     evaluator,
                     key,
                     params,
+                    jacobian: None,
                 })
             }
         };
@@ -164,6 +168,9 @@ pub struct WheelRailModel {
     warm: Option<WarmStart>,
     /// Table notices already logged (each once per instance, until `fmi2Reset`).
     noticed: Vec<Notice>,
+    /// The exact solver's outputs (at the derivative tolerance) for the values of the last directional
+    /// derivative's unperturbed point: further seed directions at the same values need one solve each.
+    derivative_base: Option<(Values, Values)>,
 }
 
 /// The FMU's Real inputs in the order of the table's axes (ξ, η, φ, F_N, V, w).
@@ -359,9 +366,16 @@ impl WheelRailModel {
         let Route::Table(table) = setup.evaluator.route(setup.matches, &solved.point)?.0 else {
             return Ok(None);
         };
-        let (_, jac) = table
-            .evaluate_with_jacobian(&solved.point)
-            .map_err(|e| translate(e, values))?;
+        let jac = match setup.jacobian {
+            Some((at, jac)) if at == solved.point => jac,
+            _ => {
+                let (_, jac) = table
+                    .evaluate_with_jacobian(&solved.point)
+                    .map_err(|e| translate(e, values))?;
+                setup.jacobian = Some((solved.point, jac));
+                jac
+            }
+        };
         // F_x and F_y turn back with the frame; the inputs enter through the chain factors
         let out_turn = [solved.turn, solved.turn, 1.0, 1.0, 1.0, 1.0];
         let index = |list: &[usize], i: usize| list.iter().position(|x| *x == i);
@@ -437,6 +451,7 @@ impl Model for WheelRailModel {
             wetness_warned: false,
             warm: None,
             noticed: Vec::new(),
+            derivative_base: None,
         }
     }
 
@@ -445,6 +460,7 @@ impl Model for WheelRailModel {
         self.wetness_warned = false;
         self.warm = None;
         self.noticed.clear();
+        self.derivative_base = None;
     }
 
     fn calculate(&mut self, values: &mut Values, log: &Logger) -> Result<Status, String> {
@@ -478,9 +494,18 @@ impl Model for WheelRailModel {
             return Ok(d);
         }
         forward_difference(values, unknowns, knowns, seed, DERIVATIVE_STEP, |v| {
+            // the unperturbed point is the same for every seed direction at one communication point
+            if let Some((at, out)) = &self.derivative_base
+                && at == v
+            {
+                return Ok(out.clone());
+            }
             let (e, mode, _) = self.evaluate(v, Some(DERIVATIVE_TOLERANCE), false, log)?;
             let mut out = v.clone();
             write_outputs(&mut out, &e, mode);
+            if v == values {
+                self.derivative_base = Some((v.clone(), out.clone()));
+            }
             Ok(out)
         })
     }
@@ -685,6 +710,43 @@ mod tests {
         v.set(K_WET, Value::Real(0.3));
         let e = m.calculate(&mut v, &log).unwrap_err();
         assert!(e.contains("table only") && e.contains("differ"), "{e}");
+    }
+
+    /// Directional derivatives along each input, one call per seed direction, as a master asks for them.
+    fn columns(m: &mut WheelRailModel, v: &Values, log: &Logger) -> Vec<Vec<f64>> {
+        (0..6)
+            .map(|c| {
+                let mut seed = [0.0; 6];
+                seed[c] = 1.0;
+                m.directional_derivative(v, &OUTPUTS, &INPUTS, &seed, log)
+                    .unwrap()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn derivatives_reused_at_one_point_are_those_of_a_fresh_instance_and_not_reused_elsewhere() {
+        let log = Logger::new(None, false);
+        // outputs a pure function of the inputs, so that instances agree bit for bit
+        let mut exact = exact();
+        exact.set(GRID_SIZE, Value::Integer(8));
+        exact.set(WARM_START, Value::Boolean(false));
+        exact.set(WETNESS, Value::Real(0.5));
+        for mut v in [exact, with_table(0)] {
+            let mut m = WheelRailModel::new(None);
+            for xi in [0.003, 0.004] {
+                v.set(CREEPAGE_LONGITUDINAL, Value::Real(xi));
+                m.calculate(&mut v, &log).unwrap();
+                let mut fresh = v.clone();
+                WheelRailModel::new(None)
+                    .calculate(&mut fresh, &log)
+                    .unwrap();
+                assert_eq!(fresh, v);
+                let reused = columns(&mut m, &v, &log);
+                assert_eq!(reused, columns(&mut WheelRailModel::new(None), &v, &log));
+                assert!(reused.iter().flatten().any(|d| *d != 0.0));
+            }
+        }
     }
 
     #[test]
