@@ -2,9 +2,15 @@
 //! cells), each iteration sets a new longitudinal creepage (alternating between two values, so every step
 //! solves) and calls `fmi2DoStep`, dry and wet, with warm starts (the default) and without; and in table
 //! mode (issue 5 target ≤ 2 µs), with a small table built for a 6 × 6 grid first (the lookup cost does not
-//! depend on the grid). Run with `cargo bench -p wheelrail-fmu`.
+//! depend on the grid). Also a step followed by the six columns of the Jacobian (one
+//! `fmi2GetDirectionalDerivative` call per input, as a master asks), by table and exact. Run with
+//! `cargo bench -p wheelrail-fmu`.
 
-use WheelRailFriction::contact::variables::{CREEPAGE_LONGITUDINAL, EVALUATION_MODE};
+use WheelRailFriction::contact::variables::{
+    CREEPAGE_LATERAL, CREEPAGE_LONGITUDINAL, EVALUATION_MODE, FORCE_LATERAL, FORCE_LONGITUDINAL,
+    MAX_TEMPERATURE, NORMAL_FORCE, ROLLING_SPEED, SPIN_CREEPAGE, SPIN_MOMENT, TRACTION_COEFFICIENT,
+    WETNESS,
+};
 use WheelRailFriction::exports::*;
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::ffi::CString;
@@ -30,6 +36,55 @@ unsafe fn bench_steps(c: &mut Criterion, name: &str, fmu: *mut std::ffi::c_void,
     });
 }
 
+/// Benchmarks a step followed by the full Jacobian of the six force outputs with respect to the six Real
+/// inputs, asked for as a master does: one `fmi2GetDirectionalDerivative` call per input (seed direction).
+///
+/// # Safety
+/// `fmu` is a live, initialised instance.
+unsafe fn bench_jacobian(c: &mut Criterion, name: &str, fmu: *mut std::ffi::c_void, xi: [f64; 2]) {
+    let unknowns = [
+        FORCE_LONGITUDINAL,
+        FORCE_LATERAL,
+        SPIN_MOMENT,
+        TRACTION_COEFFICIENT,
+        MAX_TEMPERATURE,
+    ]
+    .map(|i| i as u32);
+    let knowns = [
+        CREEPAGE_LONGITUDINAL,
+        CREEPAGE_LATERAL,
+        SPIN_CREEPAGE,
+        NORMAL_FORCE,
+        ROLLING_SPEED,
+        WETNESS,
+    ]
+    .map(|i| i as u32);
+    let mut k = 0usize;
+    let mut column = [0.0; 5];
+    c.bench_function(name, |b| {
+        b.iter(|| {
+            k += 1;
+            unsafe {
+                fmi2SetReal(fmu, &(CREEPAGE_LONGITUDINAL as u32), 1, &xi[k % 2]);
+                assert_eq!(fmi2DoStep(fmu, 0.0, 1e-3, 1), 0);
+                for known in knowns {
+                    let status = fmi2GetDirectionalDerivative(
+                        fmu,
+                        unknowns.as_ptr(),
+                        unknowns.len(),
+                        &known,
+                        1,
+                        &1.0,
+                        column.as_mut_ptr(),
+                    );
+                    assert_eq!(status, 0);
+                    black_box(&column);
+                }
+            }
+        })
+    });
+}
+
 fn do_step(c: &mut Criterion) {
     let cases = [
         ("exact 30x30 dry, xi 0.2 %", [0.002, 0.0021], 0.0, true),
@@ -48,6 +103,14 @@ fn do_step(c: &mut Criterion) {
                 warm,
             });
             bench_steps(c, &format!("fmi2DoStep/{label}"), fmu, creepages);
+            if label == "exact 30x30 dry, xi 2 %" {
+                bench_jacobian(
+                    c,
+                    "fmi2DoStep + 6 directional derivatives/exact 30x30 dry, xi 2 %",
+                    fmu,
+                    creepages,
+                );
+            }
             fmi2FreeInstance(fmu);
         }
     }
@@ -75,6 +138,12 @@ fn do_step_table(c: &mut Criterion) {
         );
         assert_eq!(mode, 1);
         bench_steps(c, "fmi2DoStep/table, dry, xi 0.3 %", fmu, [0.003, 0.0031]);
+        bench_jacobian(
+            c,
+            "fmi2DoStep + 6 directional derivatives/table, dry, xi 0.3 %",
+            fmu,
+            [0.003, 0.0031],
+        );
         fmi2FreeInstance(fmu);
     }
     let _ = std::fs::remove_dir_all(dir);
