@@ -7,7 +7,7 @@
 //! - Stored outputs (see [`file::OUTPUT_INFO`]): F_x/F_N, F_y/F_N, M_z/(F_N·c) with c = sqrt(a·b) of Hertz,
 //!   T_max, fluid load fraction, and a converged flag per point. The traction coefficient is |F_T|/F_N of
 //!   the interpolated forces (the solver's definition, P2).
-//! - [`Table::evaluate`]: ≈ 0.3 µs (AVX-512/AVX2 kernel, [`Kernel`]), no allocation;
+//! - [`Table::evaluate`]: ≈ 0.4 µs (AVX2 + FMA kernel, [`Kernel`]), no allocation;
 //!   [`Table::evaluate_with_jacobian`] adds the exact derivatives of the interpolant for FMU directional
 //!   derivatives.
 //! - [`Table::load_shared`]: one copy per file and process, shared read-only by all FMU instances.
@@ -77,22 +77,22 @@ struct Core {
     converged: bool,
 }
 
-/// The instruction set of the lookup kernel: one source compiled three times, chosen once per table by the
-/// CPU it runs on. The vector kernels also fuse the corner sums' multiply-adds (one rounding instead of
-/// two), so their results differ from the portable kernel's in the last bits only.
+/// The instruction set of the lookup kernel: one source compiled twice, chosen once per table by the CPU it
+/// runs on. The vector kernel also fuses the corner sums' multiply-adds (one rounding instead of two), so
+/// its results differ from the portable kernel's in the last bits only. (An AVX-512 build was 11 % faster
+/// still on AMD Zen 4 but uses 512-bit FMAs, which lower the clock of the whole core on several Intel server
+/// generations, slowing the host simulation: left out.)
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kernel {
     /// Baseline instructions of the target (SSE2 on x86_64).
     Portable,
-    /// AVX2 and FMA (x86_64).
+    /// AVX2 and FMA (x86_64, every x86_64 CPU since about 2015).
     Avx2Fma,
-    /// AVX-512 (F, VL), AVX2 and FMA (x86_64).
-    Avx512Fma,
 }
 
 impl Kernel {
     /// Every kernel, slowest first.
-    pub const ALL: [Kernel; 3] = [Kernel::Portable, Kernel::Avx2Fma, Kernel::Avx512Fma];
+    pub const ALL: [Kernel; 2] = [Kernel::Portable, Kernel::Avx2Fma];
 
     /// Whether this CPU runs the kernel.
     pub fn supported(self) -> bool {
@@ -100,12 +100,6 @@ impl Kernel {
             Kernel::Portable => true,
             #[cfg(target_arch = "x86_64")]
             Kernel::Avx2Fma => is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma"),
-            #[cfg(target_arch = "x86_64")]
-            Kernel::Avx512Fma => {
-                Kernel::Avx2Fma.supported()
-                    && is_x86_feature_detected!("avx512f")
-                    && is_x86_feature_detected!("avx512vl")
-            }
             #[cfg(not(target_arch = "x86_64"))]
             _ => false,
         }
@@ -319,8 +313,6 @@ impl Table {
             // (`Kernel::supported`, checked by `detect` and `set_kernel`)
             #[cfg(target_arch = "x86_64")]
             Kernel::Avx2Fma => unsafe { self.eval_avx2::<JAC>(point) },
-            #[cfg(target_arch = "x86_64")]
-            Kernel::Avx512Fma => unsafe { self.eval_avx512::<JAC>(point) },
             #[cfg(not(target_arch = "x86_64"))]
             _ => self.eval::<JAC, false>(point),
         }
@@ -329,15 +321,6 @@ impl Table {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     fn eval_avx2<const JAC: bool>(
-        &self,
-        point: &OperatingPoint,
-    ) -> Result<(TableOutput, Jacobian)> {
-        self.eval::<JAC, true>(point)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
-    fn eval_avx512<const JAC: bool>(
         &self,
         point: &OperatingPoint,
     ) -> Result<(TableOutput, Jacobian)> {
@@ -460,11 +443,10 @@ impl Table {
         let mut t1 = [[[[0.0; 4]; OUTPUTS]; 4]; 4];
         let mut converged = true;
         // prefetch the corner pairs of ξ window node i + 1 (all η, both φ ends) while node i is computed: on a
-        // table far larger than the caches the loads then find their lines on the way. Only where a node's
-        // work is long enough for that to pay (measured on the default table: random points 1.57 → 1.04 µs
-        // with the portable kernel, 5.4 → 4.1 µs with the Jacobian; the FMA kernels' plain evaluation gains
-        // nothing from it, and a cached point costs 50 ns more)
-        let prefetch_ahead = JAC || !FMA;
+        // table far larger than the caches the loads then find their lines on the way (measured on the default
+        // table, random points: portable kernel 1.57 → 1.04 µs, AVX2 kernel 1.24 → 0.81 µs; a point whose
+        // stencil is already in L1 costs about 45 ns more, but between two steps of one contact an MBS
+        // simulation runs enough other code to evict L1)
         let prefetch = |i: isize| {
             #[cfg(target_arch = "x86_64")]
             {
@@ -495,7 +477,7 @@ impl Table {
         };
 
         for i in 0..4 {
-            if prefetch_ahead && i < 3 {
+            if i < 3 {
                 prefetch(i as isize + 1);
             }
             let gi = cx.start + i as isize;
