@@ -181,23 +181,32 @@ fn wet_results_on_the_default_grid_are_close_to_the_grid_converged_ones() {
 #[test]
 fn a_hot_heavily_loaded_barely_wet_point_converges() {
     let p = Params::default();
-    let pt = OperatingPoint {
-        creepage_x: 0.1,
-        creepage_y: 0.006938319246036665,
-        spin: 1.0,
-        normal_force: 200e3,
-        speed: 100.0,
-        wetness: 0.0015,
-    };
-    let wet = solve(&p, &pt).unwrap();
-    let dry = solve(&p, &OperatingPoint { wetness: 0.0, ..pt }).unwrap();
-    assert!(
-        wet.report.converged && dry.report.converged,
-        "{:?}",
-        wet.report
-    );
-    let g = &wet.global;
-    assert!(g.traction_coefficient <= dry.global.traction_coefficient + 1e-6);
-    assert!((0.0..1.0).contains(&g.fluid_load_fraction));
-    assert!(g.fluid_mass_balance_error.abs() < 1e-6);
+    // ξ = 10 %, 200 kN, 100 m/s, w = 0.0015: points of the default table's corner (the film fails at the
+    // first, unrelaxed temperature update; the last two also needed the film's cold Newton restart when
+    // the warm start from the previous outer iteration stalled)
+    for (creepage_y, spin) in [
+        (0.006938319246036665, 1.0),
+        (0.00232756897959015, -0.7146615558812911),
+        (0.02, -0.14637769565849473),
+    ] {
+        let pt = OperatingPoint {
+            creepage_x: 0.1,
+            creepage_y,
+            spin,
+            normal_force: 200e3,
+            speed: 100.0,
+            wetness: 0.0015,
+        };
+        let wet = solve(&p, &pt).unwrap();
+        let dry = solve(&p, &OperatingPoint { wetness: 0.0, ..pt }).unwrap();
+        assert!(
+            wet.report.converged && dry.report.converged,
+            "{:?}",
+            wet.report
+        );
+        let g = &wet.global;
+        assert!(g.traction_coefficient <= dry.global.traction_coefficient + 1e-6);
+        assert!((0.0..1.0).contains(&g.fluid_load_fraction));
+        assert!(g.fluid_mass_balance_error.abs() < 1e-6);
+    }
 }

@@ -806,14 +806,19 @@ pub fn solve_film(pr: &FilmProblem, warm: Option<FilmStart>) -> Result<FilmSolut
         _ => None,
     };
     let limit = pr.max_iterations.min(NEWTON_LIMIT);
-    let newton = sys.newton(start.clone().unwrap_or_else(|| vec![0.0; n]), limit);
+    let mut newton = sys.newton(start.clone().unwrap_or_else(|| vec![0.0; n]), limit);
+    if !newton.converged && start.is_some() && newton.iterations < pr.max_iterations {
+        // a warm start is only a guess: from the film of another temperature (a hot, heavily loaded point
+        // whose outer iteration moves the temperature by tens of kelvin) Newton can stall where it converges
+        // from the just-full film; restart from there before falling back to Gauss–Seidel
+        let used = newton.iterations;
+        newton = sys.newton(vec![0.0; n], limit.min(pr.max_iterations - used));
+        newton.iterations += used;
+    }
     if newton.converged || newton.iterations >= pr.max_iterations {
         return Ok(newton);
     }
-    let mut sol = sys.gauss_seidel(
-        start.unwrap_or_else(|| vec![-1.0; n]),
-        pr.max_iterations - newton.iterations,
-    )?;
+    let mut sol = sys.gauss_seidel(vec![-1.0; n], pr.max_iterations - newton.iterations)?;
     sol.iterations += newton.iterations;
     Ok(sol)
 }
