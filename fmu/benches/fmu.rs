@@ -6,11 +6,8 @@
 //! `fmi2GetDirectionalDerivative` call per input, as a master asks), by table and exact. Run with
 //! `cargo bench -p wheelrail-fmu`.
 
-use WheelRailFriction::contact::variables::{
-    CREEPAGE_LATERAL, CREEPAGE_LONGITUDINAL, EVALUATION_MODE, FORCE_LATERAL, FORCE_LONGITUDINAL,
-    MAX_TEMPERATURE, NORMAL_FORCE, ROLLING_SPEED, SPIN_CREEPAGE, SPIN_MOMENT, TRACTION_COEFFICIENT,
-    WETNESS,
-};
+use WheelRailFriction::contact::model::{INPUTS, OUTPUTS};
+use WheelRailFriction::contact::variables::{CREEPAGE_LONGITUDINAL, EVALUATION_MODE};
 use WheelRailFriction::exports::*;
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::ffi::CString;
@@ -36,31 +33,16 @@ unsafe fn bench_steps(c: &mut Criterion, name: &str, fmu: *mut std::ffi::c_void,
     });
 }
 
-/// Benchmarks a step followed by the full Jacobian of the six force outputs with respect to the six Real
+/// Benchmarks a step followed by the full Jacobian of the six Real outputs with respect to the six Real
 /// inputs, asked for as a master does: one `fmi2GetDirectionalDerivative` call per input (seed direction).
 ///
 /// # Safety
 /// `fmu` is a live, initialised instance.
 unsafe fn bench_jacobian(c: &mut Criterion, name: &str, fmu: *mut std::ffi::c_void, xi: [f64; 2]) {
-    let unknowns = [
-        FORCE_LONGITUDINAL,
-        FORCE_LATERAL,
-        SPIN_MOMENT,
-        TRACTION_COEFFICIENT,
-        MAX_TEMPERATURE,
-    ]
-    .map(|i| i as u32);
-    let knowns = [
-        CREEPAGE_LONGITUDINAL,
-        CREEPAGE_LATERAL,
-        SPIN_CREEPAGE,
-        NORMAL_FORCE,
-        ROLLING_SPEED,
-        WETNESS,
-    ]
-    .map(|i| i as u32);
+    let unknowns = OUTPUTS.map(|i| i as u32);
+    let knowns = INPUTS.map(|i| i as u32);
     let mut k = 0usize;
-    let mut column = [0.0; 5];
+    let mut column = [0.0; OUTPUTS.len()];
     c.bench_function(name, |b| {
         b.iter(|| {
             k += 1;

@@ -174,7 +174,7 @@ pub struct WheelRailModel {
 }
 
 /// The FMU's Real inputs in the order of the table's axes (ξ, η, φ, F_N, V, w).
-const INPUTS: [usize; 6] = [
+pub const INPUTS: [usize; 6] = [
     CREEPAGE_LONGITUDINAL,
     CREEPAGE_LATERAL,
     SPIN_CREEPAGE,
@@ -183,7 +183,7 @@ const INPUTS: [usize; 6] = [
     WETNESS,
 ];
 /// The FMU's Real outputs in the order of the table Jacobian's rows.
-const OUTPUTS: [usize; 6] = [
+pub const OUTPUTS: [usize; 6] = [
     FORCE_LONGITUDINAL,
     FORCE_LATERAL,
     SPIN_MOMENT,

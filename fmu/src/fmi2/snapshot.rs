@@ -40,15 +40,6 @@ fn put_str(out: &mut Vec<u8>, s: &str) {
     out.extend_from_slice(s.as_bytes());
 }
 
-const STATES: [State; 6] = [
-    State::Instantiated,
-    State::InitializationMode,
-    State::StepComplete,
-    State::StepFailed,
-    State::Terminated,
-    State::Error,
-];
-
 impl Snapshot {
     /// The serialized bytes; `guid` identifies the model.
     pub fn to_bytes(&self, guid: &str) -> Vec<u8> {
@@ -103,7 +94,7 @@ impl Snapshot {
             ));
         }
         let code = u16::from_le_bytes(r.array()?);
-        let state = STATES
+        let state = State::ALL
             .into_iter()
             .find(|s| *s as u16 == code)
             .ok_or_else(|| format!("serialized FMU state has an unknown state code {code}"))?;
