@@ -19,16 +19,17 @@ lint:
 	$(CARGO) fmt --all -- --check
 	$(CARGO) clippy --workspace --all-targets -- -D warnings
 
-# the FMU's shared library, which tests/fmu.rs loads
+# the FMU's shared library, which tests/fmu.rs loads, and its packager
 fmu-lib:
 	$(CARGO) build --release -p wheelrail-fmu
+	$(CARGO) build --release -p wheelrail-cli --bin package-fmu
 
 test-rust: fmu-lib
 	$(CARGO) test --release --workspace
 
 # regenerate modelDescription/modelDescription.xml from the variable table (a test checks it is current)
 model-description:
-	$(CARGO) run --release -p wheelrail-fmu --bin package-fmu -- --model-description modelDescription/modelDescription.xml
+	$(CARGO) run --release -p wheelrail-cli --bin package-fmu -- --model-description modelDescription/modelDescription.xml
 
 # target/fmu/WheelRailFriction.fmu
 fmu: fmu-lib
@@ -66,5 +67,5 @@ clean:
 # array job and join the parts with `wheelrail table merge fmu/resources/table DIR_1 ... DIR_N`.
 TABLE_DIR := fmu/resources/table
 table:
-	$(CARGO) run --release --bin wheelrail -- table build --out $(TABLE_DIR)
-	$(CARGO) run --release --bin wheelrail -- table verify $(TABLE_DIR)
+	$(CARGO) run --release -p wheelrail-cli --bin wheelrail -- table build --out $(TABLE_DIR)
+	$(CARGO) run --release -p wheelrail-cli --bin wheelrail -- table verify $(TABLE_DIR)

@@ -1,8 +1,6 @@
-//! All integration tests in one binary (one link on a small machine).
+//! Integration tests of the library and of the FMU's shared library (one binary; those of the command line
+//! are in cli/tests).
 
-mod cli;
 mod fluid;
 mod fmu;
-mod paper;
 mod solver;
-mod table;

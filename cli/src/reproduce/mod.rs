@@ -13,11 +13,11 @@ pub mod fmax;
 pub use figures::boundary_lubrication_wetness;
 pub use fmax::{MaxSearch, TractionMaximum, solve_converged, traction_maximum};
 
-use crate::contact::ContactGrid;
-use crate::error::{Error, Result};
-use crate::params::Params;
 use crate::plot::{Chart, Series, heat_map, line_chart};
 use std::path::{Path, PathBuf};
+use wheelrail::contact::ContactGrid;
+use wheelrail::error::{Error, Result};
+use wheelrail::params::Params;
 
 /// The paper's result figures.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -261,7 +261,7 @@ pub type Progress<'a> = &'a (dyn Fn(&str) + Sync);
 /// f_max search.
 pub fn compute(id: FigureId, settings: &Settings, progress: Progress) -> Result<Figure> {
     settings.params.validate()?;
-    if settings.params.friction.law != crate::params::FrictionLaw::Tomberger {
+    if settings.params.friction.law != wheelrail::params::FrictionLaw::Tomberger {
         return Err(Error::OutOfRange {
             name: "friction.law".into(),
             value: settings.params.friction.law.to_string(),
@@ -297,7 +297,7 @@ mod tests {
     #[test]
     fn only_the_papers_model_is_reproduced() {
         let mut s = Settings::default();
-        s.params.friction.law = crate::params::FrictionLaw::Polach;
+        s.params.friction.law = wheelrail::params::FrictionLaw::Polach;
         let e = compute(FigureId::Fig10, &s, &|_| {}).unwrap_err();
         assert!(e.to_string().contains("friction.law"), "{e}");
     }

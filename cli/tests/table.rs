@@ -518,7 +518,7 @@ fn point_by_table_has_the_exact_keys_and_agrees_at_table_points() {
 #[test]
 fn the_bundled_default_table_agrees_with_the_exact_solver() {
     use wheelrail::table::verify::{sample_points, verify};
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fmu/resources/table");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fmu/resources/table");
     let t = Table::load(&dir).unwrap_or_else(|e| {
         panic!(
             "the default table must be committed at {} (`make table`): {e}",

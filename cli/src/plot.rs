@@ -1,11 +1,11 @@
 //! Plots for the CLI and the reports: line charts (traction–creepage curves) and heat maps of contact fields,
 //! as PNG or SVG by file extension. The font is compiled in (DejaVu Sans), so nothing depends on fontconfig.
 
-use crate::contact::ContactGrid;
 use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
 use std::path::Path;
 use std::sync::Once;
+use wheelrail::contact::ContactGrid;
 
 static FONT: Once = Once::new();
 
@@ -15,7 +15,7 @@ fn ensure_font() {
         let _ = register_font(
             "sans-serif",
             FontStyle::Normal,
-            include_bytes!("../assets/DejaVuSans.ttf"),
+            include_bytes!("../../assets/DejaVuSans.ttf"),
         );
     });
 }

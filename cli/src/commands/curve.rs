@@ -6,8 +6,8 @@ use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::PathBuf;
 use wheelrail::OperatingPoint;
-use wheelrail::plot::{Chart, Series, line_chart};
 use wheelrail::solver::solve_sweep;
+use wheelrail_cli::plot::{Chart, Series, line_chart};
 
 /// Which creepage is swept.
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq)]

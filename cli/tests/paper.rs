@@ -4,12 +4,12 @@
 //! docs/paper-comparison.md shows the full figures.
 
 use wheelrail::fluid::Regime;
-use wheelrail::reproduce::{
+use wheelrail::solver::Fields;
+use wheelrail::{OperatingPoint, Params, Solution};
+use wheelrail_cli::reproduce::{
     FigureId, MaxSearch, Settings, boundary_lubrication_wetness, compute, solve_converged,
     traction_maximum,
 };
-use wheelrail::solver::Fields;
-use wheelrail::{OperatingPoint, Params, Solution};
 
 fn params(k_r: f64) -> Params {
     let mut p = Params::default();

@@ -4,10 +4,10 @@
 //!
 //! Every solve must converge; an unconverged point is an error, never a silently wrong maximum.
 
-use crate::error::{Error, Result};
-use crate::params::{OperatingPoint, Params};
-use crate::solver::{Solution, solve};
 use rayon::prelude::*;
+use wheelrail::error::{Error, Result};
+use wheelrail::params::{OperatingPoint, Params};
+use wheelrail::solver::{Solution, solve};
 
 /// How the maximum is searched.
 #[derive(Debug, Clone, PartialEq)]
@@ -47,7 +47,7 @@ impl MaxSearch {
                 allowed: "at least two ascending creepages in (0, 1.9)".into(),
             });
         }
-        crate::error::check_range("f_max ln tolerance", self.ln_tolerance, 1e-6, 10.0, "")
+        wheelrail::error::check_range("f_max ln tolerance", self.ln_tolerance, 1e-6, 10.0, "")
     }
 }
 
@@ -179,7 +179,7 @@ pub fn traction_maximum(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::params::FrictionLaw;
+    use wheelrail::params::FrictionLaw;
 
     /// Polach's closed form (MODEL.md §12) is cheap and has a smooth interior maximum in ξ when its
     /// friction falls with slip velocity: the search must find it to the tolerance, as a dense scan does.

@@ -18,7 +18,7 @@ use WheelRailFriction::fmi2::variables::{Causality, Kind, Value, Values, Variabl
 use anyhow::{Context, Result, bail};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use wheelrail::plot::{Chart, Series, line_chart};
+use wheelrail_cli::plot::{Chart, Series, line_chart};
 use zip::write::SimpleFileOptions;
 
 struct Args {
@@ -90,7 +90,7 @@ fn main() -> Result<()> {
         &std::fs::read(&plot)?,
         0o644,
     )?;
-    let table = Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/table");
+    let table = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fmu/resources/table");
     if table.is_dir() {
         for entry in std::fs::read_dir(&table)? {
             let path = entry?.path();

@@ -9,15 +9,15 @@
 
 use super::fmax::{solve_converged, traction_maximum};
 use super::{Figure, FigureId, Plot, Progress, Settings, Table};
-use crate::contact::ContactGrid;
-use crate::error::{Error, Result};
-use crate::fluid::{Regime, base_height};
-use crate::microcontact::{Microcontact, contact_probability};
-use crate::params::{OperatingPoint, Params};
 use crate::plot::Series;
-use crate::solver::{Fields, Solution, normal_contact};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use wheelrail::contact::ContactGrid;
+use wheelrail::error::{Error, Result};
+use wheelrail::fluid::{Regime, base_height};
+use wheelrail::microcontact::{Microcontact, contact_probability};
+use wheelrail::params::{OperatingPoint, Params};
+use wheelrail::solver::{Fields, Solution, normal_contact};
 
 /// Inlet film of the boundary-lubricated curves in units of h_bl (see [`boundary_lubrication_wetness`]).
 const BL_FILM: f64 = 1.2;
@@ -129,7 +129,7 @@ fn fig5(s: &Settings) -> Result<Figure> {
         title: format!(
             "A_m/A_n and d/z_s against k_r, p_n = {:.0} MPa, {:.0} °C",
             p_n * MPA,
-            p.material.bulk_temperature - crate::params::CELSIUS_ZERO
+            p.material.bulk_temperature - wheelrail::params::CELSIUS_ZERO
         ),
         table: Table {
             columns: [
@@ -699,7 +699,7 @@ fn study(id: FigureId) -> Option<Study> {
     let water_and_bl = |values: &[f64]| {
         // the boundary-lubricated curve at Table 1's roughness
         let mut c = vec![Curve {
-            value: crate::params::Roughness::default().k_r,
+            value: wheelrail::params::Roughness::default().k_r,
             film: Film::Boundary,
         }];
         c.extend(curves(values, Film::Water));

@@ -1,13 +1,13 @@
 //! `wheelrail` command-line interface: evaluate operating points, sweep traction–creepage curves, write
 //! local contact fields. Invalid input prints one line naming the value and its range and exits with 2.
 
-mod cli;
+mod commands;
 
 use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let args = match cli::Cli::try_parse() {
+    let args = match commands::Cli::try_parse() {
         Ok(a) => a,
         Err(e) => {
             // clap prints help/version to stdout (exit 0) and usage errors to stderr (exit 2)
@@ -15,11 +15,11 @@ fn main() -> ExitCode {
             return ExitCode::from(e.exit_code().clamp(0, 255) as u8);
         }
     };
-    match cli::run(args) {
+    match commands::run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
-            ExitCode::from(cli::exit_code(&e))
+            ExitCode::from(commands::exit_code(&e))
         }
     }
 }

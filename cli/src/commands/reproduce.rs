@@ -6,7 +6,7 @@ use clap::Args;
 use std::path::PathBuf;
 use std::time::Instant;
 use wheelrail::Params;
-use wheelrail::reproduce::{FigureId, Settings, compute};
+use wheelrail_cli::reproduce::{FigureId, Settings, compute};
 
 /// Arguments of `wheelrail reproduce`.
 #[derive(Debug, Args)]

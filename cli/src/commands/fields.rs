@@ -5,8 +5,8 @@ use anyhow::{Result, anyhow};
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
-use wheelrail::plot::heat_map;
 use wheelrail::solver::Fields;
+use wheelrail_cli::plot::heat_map;
 
 /// Arguments of `wheelrail fields`.
 #[derive(Debug, Args)]
