@@ -1,6 +1,9 @@
 //! The co-simulation state machine of FMI 2.0 (standard §4.2.4), with one allowed-state mask per function
 //! in the style of the Modelica Reference-FMUs. A call outside its mask is rejected with
 //! "Illegal call sequence" and `fmi2Error`, and changes nothing.
+//!
+//! The standard's `stepFailed` state (after `fmi2DoStep` returned `fmi2Discard`) is never entered: a step
+//! is synchronous and either completes (`fmi2OK`/`fmi2Warning`, outputs valid) or fails with `fmi2Error`.
 
 /// The state of one instance. Each state is one bit so that a set of states is a mask.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -12,8 +15,6 @@ pub enum State {
     InitializationMode = 1 << 1,
     /// A communication point: inputs may be set, outputs read, `fmi2DoStep` called.
     StepComplete = 1 << 2,
-    /// `fmi2DoStep` returned `fmi2Discard`.
-    StepFailed = 1 << 3,
     /// After `fmi2Terminate`.
     Terminated = 1 << 4,
     /// A computation returned `fmi2Error`: only inquiries, state restore, reset and free are allowed.
@@ -22,11 +23,10 @@ pub enum State {
 
 impl State {
     /// Every state.
-    pub const ALL: [State; 6] = [
+    pub const ALL: [State; 5] = [
         State::Instantiated,
         State::InitializationMode,
         State::StepComplete,
-        State::StepFailed,
         State::Terminated,
         State::Error,
     ];
@@ -62,27 +62,21 @@ pub const SETUP: Mask = Mask::of(&[Instantiated]);
 /// `fmi2ExitInitializationMode`.
 pub const EXIT_INITIALIZATION: Mask = Mask::of(&[InitializationMode]);
 /// `fmi2Terminate`.
-pub const TERMINATE: Mask = Mask::of(&[StepComplete, StepFailed]);
+pub const TERMINATE: Mask = Mask::of(&[StepComplete]);
 /// `fmi2Get{Real,Integer,Boolean,String}`, `fmi2GetDirectionalDerivative`.
-pub const GET: Mask = Mask::of(&[
-    InitializationMode,
-    StepComplete,
-    StepFailed,
-    Terminated,
-    Error,
-]);
+pub const GET: Mask = Mask::of(&[InitializationMode, StepComplete, Terminated, Error]);
 /// `fmi2Set*` of inputs and of fixed parameters (parameters are further restricted by their variability).
 pub const SET: Mask = Mask::of(&[Instantiated, InitializationMode, StepComplete]);
 /// `fmi2SetRealInputDerivatives`.
 pub const SET_INPUT_DERIVATIVES: Mask = Mask::of(&[Instantiated, InitializationMode, StepComplete]);
 /// `fmi2GetRealOutputDerivatives`.
-pub const GET_OUTPUT_DERIVATIVES: Mask = Mask::of(&[StepComplete, StepFailed, Terminated, Error]);
+pub const GET_OUTPUT_DERIVATIVES: Mask = Mask::of(&[StepComplete, Terminated, Error]);
 /// `fmi2DoStep`.
 pub const DO_STEP: Mask = Mask::of(&[StepComplete]);
 /// `fmi2CancelStep`: only while an asynchronous step is in progress, which never happens here.
 pub const CANCEL_STEP: Mask = Mask::of(&[]);
 /// `fmi2Get*Status`.
-pub const STATUS: Mask = Mask::of(&[StepComplete, StepFailed, Terminated]);
+pub const STATUS: Mask = Mask::of(&[StepComplete, Terminated]);
 /// `fmi2Reset`, `fmi2FreeInstance`, the FMU-state functions, `fmi2SetDebugLogging`.
 pub const RESET: Mask = ANY;
 /// The states in which fixed parameters may still be set.
