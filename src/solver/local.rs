@@ -37,6 +37,16 @@ pub(super) struct Adhesion {
     pub failure_stress_factor: Vec<f64>,
 }
 
+/// The asperity contact alone carrying p_n in every cell: the dry state the film starts from.
+struct Dry {
+    /// Separation d_dry [m].
+    separation: Vec<f64>,
+    /// A_m/A_n at d_dry [-].
+    area_fraction: Vec<f64>,
+    /// p_m·A_m/A_n at d_dry (p_n, or the microcontact model's load floor) [Pa].
+    metal_load: Vec<f64>,
+}
+
 impl Setup<'_> {
     /// Microcontact (and, when wet, the fluid film) at the cells' material states.
     /// `fluid_tolerance` is the film sweep tolerance for this outer iteration.
@@ -49,12 +59,51 @@ impl Setup<'_> {
         fluid_tolerance: f64,
         report: &mut SolverReport,
     ) -> Result<Local> {
+        let dry = self.dry(mats, dry_guess, report)?;
+        let h_f0 = self.inlet_film();
+        if h_f0 <= 0.0 {
+            let n = self.grid.len();
+            return Ok(Local {
+                dry_separation: dry.separation.clone(),
+                separation: dry.separation,
+                area_fraction: dry.area_fraction,
+                metal_load: dry.metal_load,
+                fluid_pressure: vec![0.0; n],
+                fluid_height: vec![0.0; n],
+                regime: vec![Regime::Dry; n],
+                film: None,
+            });
+        }
+        let film = self.film(mats, &dry, h_f0, warm, fluid_tolerance)?;
+        report.fluid_sweeps = film.iterations;
+        report.fluid_residual = film.residual;
+        report.fluid_balance_residual = film.balance_residual;
+        Ok(Local {
+            dry_separation: dry.separation,
+            separation: film.separation.clone(),
+            area_fraction: film.area_fraction.clone(),
+            metal_load: film.metal_load.clone(),
+            fluid_pressure: film.fluid_pressure.clone(),
+            fluid_height: film.fluid_height.clone(),
+            regime: film.regime.clone(),
+            film: Some(film),
+        })
+    }
+
+    /// The separation at which the asperities alone carry p_n in each cell (docs/model.md §4), each
+    /// Newton solve started from `dry_guess` (the previous iterate) or else from the neighbour just solved
+    /// in the same strip; an unconverged one is an error.
+    fn dry(
+        &self,
+        mats: &[MaterialState],
+        dry_guess: Option<&[f64]>,
+        report: &mut SolverReport,
+    ) -> Result<Dry> {
         let n = self.grid.len();
         let mut dry_d = vec![0.0; n];
         let mut area = vec![0.0; n];
         let mut load = vec![0.0; n];
         for c in 0..n {
-            // the last iterate of this cell, else the neighbour just solved in the same strip
             let guess = match dry_guess {
                 Some(g) => g[c],
                 None if c > 0 && self.grid.cells[c - 1].j == self.grid.cells[c].j => dry_d[c - 1],
@@ -78,56 +127,53 @@ impl Setup<'_> {
             area[c] = s.state.area_fraction;
             load[c] = s.state.load;
         }
-        let h_f0 = if self.models_fluid() {
+        Ok(Dry {
+            separation: dry_d,
+            area_fraction: area,
+            metal_load: load,
+        })
+    }
+
+    /// The inlet film h_f0 = w·h_f,max [m] (docs/model.md §8); 0 for the laws without fluid, which
+    /// ignore the wetness.
+    fn inlet_film(&self) -> f64 {
+        if self.models_fluid() {
             self.point.wetness * self.params.fluid.h_f_max
         } else {
             0.0
-        };
-        if h_f0 <= 0.0 {
-            return Ok(Local {
-                dry_separation: dry_d.clone(),
-                separation: dry_d,
-                area_fraction: area,
-                metal_load: load,
-                fluid_pressure: vec![0.0; n],
-                fluid_height: vec![0.0; n],
-                regime: vec![Regime::Dry; n],
-                film: None,
-            });
         }
+    }
+
+    /// The film (P12–P17, docs/model.md §8) on the dry state at the inlet film `h_f0` [m], started from
+    /// `warm`, to `tolerance`.
+    fn film(
+        &self,
+        mats: &[MaterialState],
+        dry: &Dry,
+        h_f0: f64,
+        warm: Option<FilmStart>,
+        tolerance: f64,
+    ) -> Result<FilmSolution> {
         let (v_w, v_r) = surface_speeds(self.point);
-        let film = solve_film(
+        solve_film(
             &FilmProblem {
                 grid: &self.grid,
                 nominal_pressure: &self.p_n,
                 materials: mats,
-                dry_separation: &dry_d,
-                dry_area_fraction: &area,
-                dry_metal_load: &load,
+                dry_separation: &dry.separation,
+                dry_area_fraction: &dry.area_fraction,
+                dry_metal_load: &dry.metal_load,
                 micro: &self.micro,
                 base_height: self.base_height,
                 flow_resistance: self.params.fluid.flow_resistance,
                 rail_speed: v_r,
                 mean_speed: 0.5 * (v_w + v_r),
                 inlet_film: h_f0,
-                tolerance: fluid_tolerance,
+                tolerance,
                 max_iterations: self.params.solver.max_fluid_sweeps,
             },
             warm,
-        )?;
-        report.fluid_sweeps = film.iterations;
-        report.fluid_residual = film.residual;
-        report.fluid_balance_residual = film.balance_residual;
-        Ok(Local {
-            dry_separation: dry_d,
-            separation: film.separation.clone(),
-            area_fraction: film.area_fraction.clone(),
-            metal_load: film.metal_load.clone(),
-            fluid_pressure: film.fluid_pressure.clone(),
-            fluid_height: film.fluid_height.clone(),
-            regime: film.regime.clone(),
-            film: Some(film),
-        })
+        )
     }
 
     /// The adhesion limit of every cell: for the Tomberger law τ_l = τ_m·A_m/A_n with the failure stress
