@@ -471,7 +471,11 @@ fn library_forces(p: impl FnOnce(&mut Params), pt: OperatingPoint) -> [f64; 3] {
     params.grid.ny = GRID as usize;
     p(&mut params);
     let s = wheelrail::solve(&params, &pt).unwrap();
-    [s.global.force_x, s.global.force_y, s.global.spin_moment]
+    [
+        s.global.force_x,
+        s.global.force_y,
+        s.global.spin_moment.unwrap(),
+    ]
 }
 
 fn close(a: [f64; 3], b: [f64; 3], rel: f64) -> bool {

@@ -171,4 +171,56 @@ fn fields_write_csv_and_heat_maps() {
     }
     assert!(text.lines().count() > 50);
     assert!(dir.join("temperature.png").exists());
+    // columns are only ever appended: the void height is the last
+    assert_eq!(header.split(',').next_back(), Some("void_height"));
+}
+
+#[test]
+fn point_json_says_what_limited_an_unconverged_solve_and_null_for_what_a_law_does_not_model() {
+    let json = |args: &[&str]| -> serde_json::Value {
+        let o = wheelrail(&[&["point", "--json", "--grid", "12,12"], args].concat());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let v = json(&["--creepage-x", "0.01"]);
+    assert_eq!(v["termination"], "converged");
+    assert!(v["limited_by"].is_null());
+    let one = tmp("one-iteration.toml");
+    std::fs::write(&one, "[solver]\nmax_iterations = 1\n").unwrap();
+    let v = json(&["--creepage-x", "0.01", "--params", one.to_str().unwrap()]);
+    assert_eq!(v["converged"], false);
+    assert_eq!(v["termination"], "max_iterations_reached");
+    assert_eq!(v["limited_by"], "outer");
+    let absent = [
+        "fluid_load_fraction",
+        "mixed_lubrication_area_fraction",
+        "boundary_lubrication_area_fraction",
+        "fluid_mass_balance_error",
+        "fluid_rejected_fraction",
+    ];
+    let v = json(&["--creepage-x", "0.01", "--friction-law", "polach"]);
+    for k in absent
+        .iter()
+        .chain(&["spin_moment", "max_temperature", "mean_temperature"])
+    {
+        assert!(v[k].is_null(), "{k} = {} for polach", v[k]);
+    }
+    assert!(v["force_x"].as_f64().unwrap() < 0.0);
+    assert_eq!(v["termination"], "closed_form");
+    let v = json(&[
+        "--creepage-x",
+        "0.01",
+        "--wetness",
+        "1",
+        "--friction-law",
+        "constant",
+    ]);
+    for k in absent {
+        assert!(v[k].is_null(), "{k} = {} for the constant law", v[k]);
+    }
+    assert!(v["max_temperature"].as_f64().unwrap() > 293.15);
+    let v = json(&["--creepage-x", "0.01", "--wetness", "1"]);
+    for k in absent {
+        assert!(v[k].is_number(), "{k} = {} for the tomberger law", v[k]);
+    }
 }

@@ -1,6 +1,6 @@
 //! Hertz solution for the elliptic contact of two bodies from their relative curvatures (MODEL.md §2).
 
-use crate::error::{Error, Result, check_positive};
+use crate::error::{Error, Result, Stage, check_positive};
 use std::f64::consts::PI;
 
 /// Complete elliptic integrals K(e) and E(e) of the first and second kind, modulus `e` ∈ [0, 1)
@@ -85,7 +85,7 @@ impl HertzContact {
             let e2 = 0.5 * (lo + hi);
             if !(e2 > 0.0 && e2 < 1.0) {
                 return Err(Error::Numerical {
-                    stage: "hertz",
+                    stage: Stage::Hertz,
                     reason: format!("no eccentricity for curvature ratio {ratio}"),
                 });
             }

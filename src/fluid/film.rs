@@ -55,7 +55,7 @@
 use std::cell::OnceCell;
 
 use crate::contact::ContactGrid;
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Stage};
 use crate::fluid::CellGeometry;
 use crate::fluid::band::Band;
 use crate::materials::MaterialState;
@@ -371,7 +371,7 @@ impl<'a> System<'a> {
         .any(|l| *l != n)
         {
             return Err(Error::Numerical {
-                stage: "fluid",
+                stage: Stage::Fluid,
                 reason: "field lengths do not match the grid".into(),
             });
         }
@@ -976,7 +976,7 @@ fn root_decreasing(
         x = next;
     }
     Err(Error::Numerical {
-        stage: "fluid",
+        stage: Stage::Fluid,
         reason: format!("no separation balances the cell (bracket {a:e} .. {b:e} m)"),
     })
 }

@@ -16,7 +16,7 @@ mod gw;
 mod gw_table;
 mod table;
 
-use crate::error::{Error, Result, check_finite, check_positive, check_range};
+use crate::error::{Error, Result, Stage, check_finite, check_positive, check_range};
 use crate::materials::MaterialState;
 use crate::params::Roughness;
 use gw::{Integrals, Law, PLASTIC_RATIO, Scheme};
@@ -368,7 +368,7 @@ impl Microcontact {
                     iterations += 1;
                     if bottom.load < target {
                         return Err(Error::Numerical {
-                            stage: "microcontact",
+                            stage: Stage::Microcontact,
                             reason: format!(
                                 "metallic load {load:.6e} Pa exceeds the {:.6e} Pa the surface carries at \
                                  d = {} z_s",

@@ -10,6 +10,7 @@
 //! `converged.npy` and listed in the sidecar's `unconverged`, and the build reports it. A point whose solve
 //! fails outright fails the build (naming the point).
 
+use super::TableOutput;
 use super::axes::{Axes, DIMS, FORCE};
 use super::file::{
     ArrayRecord, BuildRecord, FORMAT, FORMAT_VERSION, MODEL_VERSION, MomentScale, OUTPUTS,
@@ -17,7 +18,7 @@ use super::file::{
     line_stride, now_iso8601, shard_indices, symmetry_notes,
 };
 use crate::error::{Error, Result};
-use crate::params::{OperatingPoint, Params};
+use crate::params::{FrictionLaw, OperatingPoint, Params};
 use crate::solver::{Solution, WarmStart, solve, solve_from};
 use rayon::prelude::*;
 use std::path::Path;
@@ -65,16 +66,34 @@ struct PointResult {
     residual: f64,
 }
 
-/// The stored outputs of a solution: F_x/F_N, F_y/F_N, M_z/(F_N·c(F_N)), T_max [K], fluid load fraction.
-pub fn normalised(s: &Solution, normal_force: f64, scale: &MomentScale) -> [f64; OUTPUTS] {
-    let g = &s.global;
-    [
-        g.force_x / normal_force,
-        g.force_y / normal_force,
-        g.spin_moment / (normal_force * scale.radius(normal_force)),
-        g.max_temperature,
-        g.fluid_load_fraction,
-    ]
+/// The stored outputs of a solution: F_x/F_N, F_y/F_N, M_z/(F_N·c(F_N)), T_max [K], fluid load fraction
+/// (an error if the solution lacks one, [`TableOutput::from_solution`]).
+pub fn normalised(s: &Solution, normal_force: f64, scale: &MomentScale) -> Result<[f64; OUTPUTS]> {
+    let o = TableOutput::from_solution(s)?;
+    Ok([
+        o.force_x / normal_force,
+        o.force_y / normal_force,
+        o.spin_moment / (normal_force * scale.radius(normal_force)),
+        o.max_temperature,
+        o.fluid_load_fraction,
+    ])
+}
+
+/// Refuses a friction law that does not model every stored output: only the Tomberger law models the spin
+/// moment, the temperature and the fluid load share (the closed-form Polach law costs microseconds and
+/// needs no table).
+fn check_law(params: &Params) -> Result<()> {
+    if params.friction.law == FrictionLaw::Tomberger {
+        return Ok(());
+    }
+    Err(Error::OutOfRange {
+        name: "friction.law".into(),
+        value: params.friction.law.to_string(),
+        allowed:
+            "tomberger (a table stores the spin moment, the maximum temperature and the fluid load \
+                  fraction, which only its model gives)"
+                .into(),
+    })
 }
 
 /// Builds all points of a table (`shard` None) or one shard of it. `on_point` is called once per solved
@@ -86,6 +105,7 @@ pub fn build(
     on_point: &(dyn Fn() + Sync),
 ) -> Result<TableFiles> {
     params.validate()?;
+    check_law(params)?;
     axes.validate()?;
     let s = shard.unwrap_or(ShardRecord { index: 1, count: 1 });
     if s.count == 0 || s.index == 0 || s.index > s.count {
@@ -117,10 +137,12 @@ pub fn build(
                     warm = r.as_ref().ok().and_then(Solution::warm_start);
                     on_point();
                     let kept = r
-                        .map(|sol| PointResult {
-                            outputs: normalised(&sol, point.normal_force, &scale),
-                            converged: sol.report.converged,
-                            residual: sol.report.residual,
+                        .and_then(|sol| {
+                            Ok(PointResult {
+                                outputs: normalised(&sol, point.normal_force, &scale)?,
+                                converged: sol.report.converged,
+                                residual: sol.report.residual,
+                            })
                         })
                         .map_err(|e| format!("{point:?}: {e}"));
                     (i, kept)

@@ -24,6 +24,7 @@ pub use file::{MomentScale, OUTPUT_INFO, OUTPUTS, ShardRecord, Sidecar, TableFil
 
 use crate::error::{Error, Result};
 use crate::params::{OperatingPoint, Params};
+use crate::solver::Solution;
 use axes::{ETA, FORCE, PHI, XI};
 use interp::{AxisInterp, LinearStencil};
 use std::collections::HashMap;
@@ -50,6 +51,33 @@ pub struct TableOutput {
     pub in_range: bool,
     /// Whether every table point used by the interpolation converged when the table was built.
     pub converged: bool,
+}
+
+impl TableOutput {
+    /// The outputs of an exact solution in the table's form (`in_range` true, `converged` from its report).
+    /// A solution without a tabulated quantity (of a friction law that does not model it: only the
+    /// Tomberger law models them all) is an error naming it.
+    pub fn from_solution(s: &Solution) -> Result<TableOutput> {
+        let g = &s.global;
+        let modelled = |name: &str, v: Option<f64>| {
+            v.ok_or_else(|| Error::Table {
+                path: "<exact solution>".into(),
+                reason: format!(
+                    "has no {name}: its friction law does not model it (tables are of the tomberger law)"
+                ),
+            })
+        };
+        Ok(TableOutput {
+            force_x: g.force_x,
+            force_y: g.force_y,
+            spin_moment: modelled("spin moment", g.spin_moment)?,
+            traction_coefficient: g.traction_coefficient,
+            max_temperature: modelled("maximum temperature", g.max_temperature)?,
+            fluid_load_fraction: modelled("fluid load fraction", g.fluid_load_fraction)?,
+            in_range: true,
+            converged: s.report.converged,
+        })
+    }
 }
 
 /// Derivatives of the interpolant: rows in the order of [`TableOutput`]'s values (F_x [N], F_y [N],
@@ -677,6 +705,16 @@ pub fn small_axes() -> Axes {
     ])
 }
 
+/// The default parameters on a coarse 6 × 6 grid: a table over [`tiny_axes`] builds in a fraction of a
+/// second.
+#[cfg(test)]
+pub(crate) fn coarse_params() -> Params {
+    let mut p = Params::default();
+    p.grid.nx = 6;
+    p.grid.ny = 6;
+    p
+}
+
 /// The smallest valid axes (3·3·4·2·2·2 = 288 points), wider than [`small_axes`].
 #[cfg(test)]
 pub(crate) fn tiny_axes() -> Axes {
@@ -706,12 +744,6 @@ pub fn not_matching(table: &Table, params: &Params) -> Option<Error> {
 mod tests {
     use super::*;
     use crate::params::FrictionLaw;
-
-    fn polach() -> Params {
-        let mut p = Params::default();
-        p.friction.law = FrictionLaw::Polach;
-        p
-    }
 
     /// A function with the model's symmetries, linear in each coordinate: the interpolant reproduces it
     /// exactly. Monomials x^a·y^b·φ^c: the ξ mirror multiplies them by (−1)^a, the (η, φ) mirror by
@@ -756,7 +788,7 @@ mod tests {
 
     #[test]
     fn interpolant_reproduces_symmetric_multilinear_functions_and_their_derivatives() {
-        let params = polach();
+        let params = coarse_params();
         let t = synthetic(&tiny_axes(), &params, &symmetric_multilinear);
         let scale = t.sidecar.moment_scale;
         let mut rng = verify::SplitMix64::new(7);
@@ -807,7 +839,7 @@ mod tests {
 
     #[test]
     fn every_kernel_this_cpu_runs_agrees_with_the_portable_one() {
-        let params = polach();
+        let params = coarse_params();
         let mut t = synthetic(&tiny_axes(), &params, &symmetric_saturating);
         assert_eq!(t.kernel(), Kernel::detect());
         assert!(t.set_kernel(Kernel::Portable).is_ok());
@@ -861,7 +893,7 @@ mod tests {
 
     #[test]
     fn jacobian_is_the_derivative_of_the_interpolant() {
-        let params = polach();
+        let params = coarse_params();
         let mut axes = tiny_axes();
         axes.0[XI].points = vec![0.0, 0.001, 0.003, 0.01, 0.03, 0.05];
         let t = synthetic(&axes, &params, &symmetric_saturating);
@@ -907,7 +939,7 @@ mod tests {
     /// ghost η nodes), Hermite along φ, linear corners, then the η and ξ fibres with their weights.
     #[test]
     fn row_layout_matches_a_direct_evaluation_of_the_node_values() {
-        let params = polach();
+        let params = coarse_params();
         let mut axes = tiny_axes();
         axes.0[XI].points = vec![0.0, 0.001, 0.003, 0.01, 0.03, 0.05];
         let t = synthetic(&axes, &params, &symmetric_saturating);
@@ -986,7 +1018,7 @@ mod tests {
     #[test]
     fn mirrored_points_obey_the_symmetries() {
         // node values of a non-symmetric function: the table still returns mirror images for η < 0, ξ < 0
-        let params = polach();
+        let params = coarse_params();
         let t = synthetic(&tiny_axes(), &params, &|c| {
             [
                 c[0] + c[1] + c[2],
@@ -1031,7 +1063,7 @@ mod tests {
 
     #[test]
     fn out_of_range_is_clamped_and_flagged_bad_input_is_an_error() {
-        let t = synthetic(&tiny_axes(), &polach(), &symmetric_multilinear);
+        let t = synthetic(&tiny_axes(), &coarse_params(), &symmetric_multilinear);
         let pt = OperatingPoint {
             creepage_x: 0.02,
             creepage_y: 0.001,
@@ -1075,7 +1107,7 @@ mod tests {
     fn unconverged_nodes_taint_only_nearby_evaluations() {
         let mut axes = tiny_axes();
         axes.0[XI].points = vec![0.0, 0.001, 0.003, 0.01, 0.03, 0.05];
-        let params = polach();
+        let params = coarse_params();
         let mut t = synthetic(&axes, &params, &symmetric_multilinear);
         // flag the node at the largest ξ, η, φ, F_N, V, w
         let last = axes.len() - 1;
@@ -1098,16 +1130,53 @@ mod tests {
         assert!(t.evaluate(&far).unwrap().converged);
     }
 
+    /// A table stores quantities only the Tomberger law models: other laws are refused before any solve,
+    /// and an exact solution of them has no table form.
+    #[test]
+    fn tables_are_of_the_tomberger_law_only() {
+        for (law, missing) in [
+            (FrictionLaw::Polach, "spin moment"),
+            (FrictionLaw::Constant, "fluid load fraction"),
+        ] {
+            let mut p = coarse_params();
+            p.friction.law = law;
+            let e = build::build(&p, &tiny_axes(), None, &|| ()).unwrap_err();
+            assert!(
+                matches!(&e, Error::OutOfRange { name, .. } if name == "friction.law"),
+                "{e}"
+            );
+            let s = crate::solve(&p, &OperatingPoint::default()).unwrap();
+            let e = TableOutput::from_solution(&s).unwrap_err().to_string();
+            assert!(e.contains(&format!("has no {missing}")), "{e}");
+        }
+        let s = crate::solve(&coarse_params(), &OperatingPoint::default()).unwrap();
+        let o = TableOutput::from_solution(&s).unwrap();
+        let g = &s.global;
+        assert_eq!(
+            [o.force_x, o.force_y, o.traction_coefficient],
+            [g.force_x, g.force_y, g.traction_coefficient]
+        );
+        assert_eq!(
+            [
+                Some(o.spin_moment),
+                Some(o.max_temperature),
+                Some(o.fluid_load_fraction)
+            ],
+            [g.spin_moment, g.max_temperature, g.fluid_load_fraction]
+        );
+        assert!(o.in_range && o.converged);
+    }
+
     #[test]
     fn shared_loading_returns_one_copy_per_directory() {
         let dir =
             std::env::temp_dir().join(format!("wheelrail-table-shared-{}", std::process::id()));
-        let mut files = build::build(&polach(), &tiny_axes(), None, &|| ()).unwrap();
+        let mut files = build::build(&coarse_params(), &tiny_axes(), None, &|| ()).unwrap();
         files.write(&dir).unwrap();
         let a = Table::load_shared(&dir).unwrap();
         let b = Table::load_shared(&dir.join(".")).unwrap();
         assert!(Arc::ptr_eq(&a, &b));
-        assert!(a.matches(&polach()) && !a.matches(&Params::default()));
+        assert!(a.matches(&coarse_params()) && !a.matches(&Params::default()));
         assert!(not_matching(&a, &Params::default()).is_some());
         drop((a, b));
         // released when the last user drops it, loaded again afterwards

@@ -8,7 +8,7 @@
 
 use super::axes::DIMS;
 use super::build::{operating_point, solve_with_retry};
-use super::{Table, coordinates};
+use super::{Table, TableOutput, coordinates};
 use crate::error::Result;
 use crate::params::OperatingPoint;
 use rayon::prelude::*;
@@ -171,7 +171,7 @@ pub fn verify(
                 return Ok(None);
             }
             let t = table.evaluate(p)?;
-            let g = &exact.global;
+            let g = TableOutput::from_solution(&exact)?;
             let f = p.normal_force;
             Ok(Some((
                 [
@@ -252,11 +252,7 @@ mod tests {
     fn samples_stay_inside_the_ranges_and_cover_both_signs() {
         let t = super::super::synthetic(
             &super::super::tiny_axes(),
-            &{
-                let mut p = crate::Params::default();
-                p.friction.law = crate::FrictionLaw::Polach;
-                p
-            },
+            &super::super::coarse_params(),
             &|_| [0.0, 0.0, 0.0, 300.0, 0.0],
         );
         let pts = sample_points(&t, 400, 3);

@@ -6,7 +6,7 @@
 
 use super::influence::InfluenceTable;
 use crate::contact::ContactGrid;
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Stage};
 
 /// One strip of the grid: consecutive columns, stored from the leading column backwards (as in
 /// [`ContactGrid::cells`]).
@@ -44,7 +44,7 @@ impl StripLayout {
                 .any(|(m, c)| c.j != strip.j || c.i + m != lead)
             {
                 return Err(Error::Numerical {
-                    stage: "thermal convolution",
+                    stage: Stage::ThermalConvolution,
                     reason: format!("the cells of strip {} are not consecutive columns", strip.j),
                 });
             }
@@ -170,12 +170,12 @@ impl OffsetKernel {
             .first()
             .map(|t| t.size())
             .ok_or_else(|| Error::Numerical {
-                stage: "thermal convolution",
+                stage: Stage::ThermalConvolution,
                 reason: "no influence table".to_string(),
             })?;
         if nx != layout.nx || tables.iter().any(|t| t.size() != (nx, ny)) {
             return Err(Error::Numerical {
-                stage: "thermal convolution",
+                stage: Stage::ThermalConvolution,
                 reason: format!(
                     "influence tables of sizes {:?} for a grid with {} columns",
                     tables.iter().map(|t| t.size()).collect::<Vec<_>>(),
@@ -273,7 +273,7 @@ impl StripSolver {
             let pivot = lu[k * n + k];
             if !(pivot.is_finite() && pivot.abs() > PIVOT_RATIO_MIN * diagonal) {
                 return Err(Error::Numerical {
-                    stage: "thermal partition",
+                    stage: Stage::ThermalPartition,
                     reason: format!(
                         "strip factorisation: pivot {k} is {pivot:.3e} against G(0, 0) = {diagonal:.3e}"
                     ),

@@ -10,7 +10,7 @@
 
 use super::expint::exp_integral_e1;
 use crate::contact::ContactGrid;
-use crate::error::{Error, Result, check_finite, check_positive};
+use crate::error::{Error, Result, Stage, check_finite, check_positive};
 use crate::params::Material;
 use crate::quadrature::gauss_kronrod::{
     Quadrature, integrate_adaptive, kronrod_nodes, kronrod_sum,
@@ -200,7 +200,7 @@ impl MovingHalfSpace {
         let q = self.rectangle(zeta, eta, tol);
         if !q.value.is_finite() {
             return Err(Error::Numerical {
-                stage: "thermal influence coefficient",
+                stage: Stage::ThermalInfluenceCoefficient,
                 reason: format!("non-finite rectangle integral for offsets {zeta:?} x {eta:?}"),
             });
         }
@@ -382,7 +382,7 @@ impl InfluenceTable {
                 row_skipped = false;
                 if !q.converged || !q.value.is_finite() {
                     return Err(Error::Numerical {
-                        stage: "thermal influence coefficient",
+                        stage: Stage::ThermalInfluenceCoefficient,
                         reason: format!(
                             "quadrature for offset ({}, {dj}) unconverged: value {:.3e}, error estimate {:.3e} > tolerance {tol:.3e} after {} panels",
                             di as isize - (nx - 1) as isize,
@@ -445,7 +445,7 @@ impl InfluenceTable {
     pub(crate) fn matrix(&self, grid: &ContactGrid) -> Result<faer::Mat<f64>> {
         if grid.nx != self.nx || grid.ny != self.ny {
             return Err(Error::Numerical {
-                stage: "thermal influence matrix",
+                stage: Stage::ThermalInfluenceMatrix,
                 reason: format!(
                     "table built for a {}x{} grid, used on a {}x{} grid",
                     self.nx, self.ny, grid.nx, grid.ny

@@ -11,7 +11,7 @@ use super::convolution::{OffsetKernel, StripLayout, StripSolver};
 use super::influence::{InfluenceTable, MovingHalfSpace};
 use super::krylov::{GmresSettings, gmres};
 use crate::contact::ContactGrid;
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Stage};
 use crate::params::Material;
 
 /// GMRES limits of the partition solve: relative residual 1e-12 of G_r·q.
@@ -77,7 +77,7 @@ impl HeatModel {
     pub fn new(grid: &ContactGrid, v_wheel: f64, v_rail: f64, material: &Material) -> Result<Self> {
         if grid.is_empty() {
             return Err(Error::Numerical {
-                stage: "thermal model",
+                stage: Stage::ThermalModel,
                 reason: "the contact grid has no active cell".to_string(),
             });
         }
@@ -202,7 +202,7 @@ impl HeatModel {
         let mismatch = residual.iter().fold(0.0_f64, |m, r| m.max(r.abs()));
         if !(mismatch.is_finite() && temperature_rise.iter().all(|t| t.is_finite())) {
             return Err(Error::Numerical {
-                stage: "thermal partition",
+                stage: Stage::ThermalPartition,
                 reason: "non-finite heat partition".to_string(),
             });
         }

@@ -68,6 +68,7 @@ pub fn columns(f: &Fields) -> Vec<(&'static str, &'static str, Vec<f64>)> {
             "0 dry, 1 boundary, 2 mixed",
             f.regime.iter().map(|r| f64::from(r.code())).collect(),
         ),
+        ("void_height", "m", f.void_height.clone()),
     ]
 }
 

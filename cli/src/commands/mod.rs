@@ -242,11 +242,12 @@ pub fn solve_reporting(params: &Params, pt: &OperatingPoint) -> Result<wheelrail
     Ok(s)
 }
 
-/// Warns on stderr when the coupled iteration of a solution did not converge.
+/// Warns on stderr when the coupled iteration of a solution did not converge, naming the solver that
+/// limited it.
 pub fn warn_unconverged(s: &wheelrail::Solution) {
-    if !s.report.converged {
+    if let Some(limiter) = s.report.termination.limited_by() {
         eprintln!(
-            "warning: not converged after {} iterations (residual {:.3e})",
+            "warning: not converged after {} iterations (residual {:.3e}, limited by the {limiter} solver)",
             s.report.iterations, s.report.residual
         );
     }

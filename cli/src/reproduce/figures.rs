@@ -13,7 +13,7 @@ use crate::plot::Series;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use wheelrail::contact::ContactGrid;
-use wheelrail::error::{Error, Result};
+use wheelrail::error::{Error, Result, Stage};
 use wheelrail::fluid::{Regime, base_height};
 use wheelrail::microcontact::{Microcontact, contact_probability};
 use wheelrail::params::{OperatingPoint, Params};
@@ -48,6 +48,11 @@ const MPA: f64 = 1e-6;
 /// Formats a number for the CSV (shortest representation that round-trips).
 fn num(v: f64) -> String {
     format!("{v}")
+}
+
+/// Formats a quantity the law may not model: empty when absent.
+fn known(v: Option<f64>) -> String {
+    v.map_or_else(String::new, num)
 }
 
 /// A creepage in per cent for the CSV, rounded to 1e-9 % (no binary noise like 7.000000000000001).
@@ -108,7 +113,7 @@ fn fig5(s: &Settings) -> Result<Figure> {
         let sol = Microcontact::new(&r)?.separation_for_load(p_n, &mat)?;
         if !sol.converged {
             return Err(Error::Numerical {
-                stage: "reproduction",
+                stage: Stage::Reproduction,
                 reason: format!("separation at k_r = {} did not converge", r.k_r),
             });
         }
@@ -594,9 +599,9 @@ fn fig15(s: &Settings, progress: Progress) -> Result<Figure> {
             num(cases[c].0.wetness(&s.params)),
             percent(xi),
             num(g.traction_coefficient),
-            num(g.max_temperature),
-            num(g.fluid_load_fraction),
-            num(g.mixed_lubrication_area_fraction),
+            known(g.max_temperature),
+            known(g.fluid_load_fraction),
+            known(g.mixed_lubrication_area_fraction),
         ]);
     }
     Ok(Figure {
@@ -815,10 +820,10 @@ fn fmax_study(st: &Study, s: &Settings, progress: Progress) -> Result<Figure> {
             num(m.traction),
             percent(m.creepage),
             m.at_range_end.to_string(),
-            num(g.max_temperature),
-            num(g.fluid_load_fraction),
-            num(g.mixed_lubrication_area_fraction),
-            num(g.boundary_lubrication_area_fraction),
+            known(g.max_temperature),
+            known(g.fluid_load_fraction),
+            known(g.mixed_lubrication_area_fraction),
+            known(g.boundary_lubrication_area_fraction),
             m.evaluations.len().to_string(),
         ]);
     }

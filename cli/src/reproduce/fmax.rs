@@ -5,7 +5,7 @@
 //! Every solve must converge; an unconverged point is an error, never a silently wrong maximum.
 
 use rayon::prelude::*;
-use wheelrail::error::{Error, Result};
+use wheelrail::error::{Error, Result, Stage};
 use wheelrail::params::{OperatingPoint, Params};
 use wheelrail::solver::{Solution, solve};
 
@@ -71,12 +71,12 @@ pub struct TractionMaximum {
 /// point, never a silently wrong number.
 pub fn solve_converged(params: &Params, point: &OperatingPoint) -> Result<Solution> {
     let s = solve(params, point)?;
-    if !s.report.converged {
+    if let Some(limiter) = s.report.termination.limited_by() {
         return Err(Error::Numerical {
-            stage: "reproduction",
+            stage: Stage::Reproduction,
             reason: format!(
                 "solver not converged at ξ = {}, V = {} m/s, F_N = {} N, w = {}, k_r = {}: \
-                 {} iterations, residual {:.3e}, fluid residual {:.3e}",
+                 {} iterations, residual {:.3e}, fluid residual {:.3e}, limited by the {} solver",
                 point.creepage_x,
                 point.speed,
                 point.normal_force,
@@ -84,7 +84,8 @@ pub fn solve_converged(params: &Params, point: &OperatingPoint) -> Result<Soluti
                 params.roughness.k_r,
                 s.report.iterations,
                 s.report.residual,
-                s.report.fluid_residual
+                s.report.fluid_residual,
+                limiter
             ),
         });
     }

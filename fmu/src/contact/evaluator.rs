@@ -98,18 +98,8 @@ fn exact(
 ) -> wheelrail::Result<Evaluation> {
     let s = wheelrail::solve_from(params, point, warm.as_ref())?;
     *warm = s.warm_start();
-    let g = &s.global;
     Ok(Evaluation {
-        output: TableOutput {
-            force_x: g.force_x,
-            force_y: g.force_y,
-            spin_moment: g.spin_moment,
-            traction_coefficient: g.traction_coefficient,
-            max_temperature: g.max_temperature,
-            fluid_load_fraction: g.fluid_load_fraction,
-            in_range: true,
-            converged: s.report.converged,
-        },
+        output: TableOutput::from_solution(&s)?,
         iterations: s.report.iterations,
         residual: s.report.residual,
     })

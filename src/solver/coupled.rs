@@ -1,0 +1,312 @@
+//! The outer fixed-point iteration of the coupled model (paper Fig. 1, docs/model.md §9).
+//!
+//! Start at T = T0 (or a warm start's temperature), p_f = 0. Each iteration: materials at T → microcontact
+//! and fluid film ([`Setup::local`]) → failure stress and adhesion limit ([`Setup::adhesion`]) → FASTSIM
+//! (traction, slip) → frictional heat → surface temperature (the heat partition) → residual → relaxed
+//! temperature update ([`Relaxation`]); a film without solution backtracks the update ([`Backtracking`]).
+
+use super::assembly::{Iterate, assemble};
+use super::backtracking::Backtracking;
+use super::closed_form::solve_polach;
+use super::local::{Adhesion, Local};
+use super::relaxation::Relaxation;
+use super::report::{SolverReport, Termination, first_unmet};
+use super::setup::{Setup, normal_contact};
+use super::solution::Solution;
+use super::warm::WarmStart;
+use crate::error::{Error, Result, Stage};
+use crate::fluid::{FilmSolution, FilmStart};
+use crate::materials::MaterialState;
+use crate::params::{FrictionLaw, OperatingPoint, Params};
+use crate::tangential::{Creepages, TractionField, fastsim, kalker_coefficients};
+use crate::thermal::HeatSolution;
+
+/// Solves one operating point with the exact (coupled) model from a cold start (T = T0, no fluid); see
+/// the module documentation.
+pub fn solve(params: &Params, point: &OperatingPoint) -> Result<Solution> {
+    solve_from(params, point, None)
+}
+
+/// As [`solve`], starting the fixed point from a nearby solution's state ([`WarmStart`]): its temperature,
+/// its separations as the microcontact Newton's starting points and its film as the film solver's start.
+/// The start is used only if it fits the grid (same nx × ny); otherwise the solve starts cold. The
+/// converged result is the same fixed point to within the solver tolerance.
+pub fn solve_from(
+    params: &Params,
+    point: &OperatingPoint,
+    warm: Option<&WarmStart>,
+) -> Result<Solution> {
+    params.validate()?;
+    solve_validated(params, point, warm)
+}
+
+/// [`solve_from`] with parameters that have passed [`Params::validate`] (the point is validated here).
+pub(crate) fn solve_validated(
+    params: &Params,
+    point: &OperatingPoint,
+    warm: Option<&WarmStart>,
+) -> Result<Solution> {
+    point.validate()?;
+    let hertz = normal_contact(params, point.normal_force)?;
+    let mat0 = params.material.at(params.material.bulk_temperature);
+    let kalker = kalker_coefficients(hertz.a, hertz.b, mat0.poisson)?;
+    let creep = Creepages {
+        xi: point.creepage_x,
+        eta: point.creepage_y,
+        phi: point.spin,
+    };
+    if params.friction.law == FrictionLaw::Polach {
+        return solve_polach(params, point, &hertz, &kalker, creep);
+    }
+    let setup = Setup::new(params, point, hertz, &mat0, &kalker, creep)?;
+    let iterate = Coupled::start(&setup, warm).run()?;
+    Ok(assemble(&setup, iterate))
+}
+
+/// The state of the outer iteration between two iterations.
+struct Coupled<'s, 'w> {
+    setup: &'s Setup<'s>,
+    /// The temperature iterate per cell [K].
+    temperature: Vec<f64>,
+    /// Per-cell separations to start the microcontact Newton from: the last iterate's, or the warm
+    /// start's.
+    dry_guess: Option<Vec<f64>>,
+    /// The adhesion limit of the last iteration [Pa].
+    prev_tau: Option<Vec<f64>>,
+    /// The film of the last iteration (dropped on a backtrack: the film restarts cold).
+    film: Option<FilmSolution>,
+    /// The warm start's film, the start of the first iteration's film only.
+    warm_film: Option<FilmStart<'w>>,
+    /// The last heat partition: the start of the next one.
+    heat_solution: Option<HeatSolution>,
+    relaxation: Relaxation,
+    backtracking: Backtracking,
+    report: SolverReport,
+}
+
+/// What one outer iteration produced before the convergence test.
+struct Step {
+    local: Local,
+    adhesion: Adhesion,
+    traction: TractionField,
+    /// The temperature this traction field produces [K].
+    target: Vec<f64>,
+    /// Heat flux density into the wheel [W/m²].
+    heat_flux_wheel: Vec<f64>,
+}
+
+impl<'s, 'w> Coupled<'s, 'w> {
+    /// The iteration before its first step, from `warm` if it fits the grid. A warm temperature is used
+    /// only when it feeds back (heat on, Tomberger law).
+    fn start(setup: &'s Setup<'s>, warm: Option<&'w WarmStart>) -> Self {
+        let warm = warm.filter(|w| w.fits(&setup.grid));
+        let temperature = match warm {
+            Some(w) if setup.temperature_feeds_back() => w.temperature.clone(),
+            _ => vec![setup.bulk_temperature(); setup.grid.len()],
+        };
+        Self {
+            setup,
+            temperature,
+            dry_guess: warm.map(|w| w.separation.clone()),
+            prev_tau: None,
+            film: None,
+            warm_film: warm.and_then(WarmStart::film),
+            heat_solution: None,
+            relaxation: Relaxation::new(setup.params.solver.relaxation),
+            backtracking: Backtracking::default(),
+            report: SolverReport::start(),
+        }
+    }
+
+    /// Iterates until every criterion is met or the iteration limit is reached (the report says which).
+    fn run(mut self) -> Result<Iterate> {
+        loop {
+            self.report.iterations += 1;
+            let Some(step) = self.step()? else {
+                continue;
+            };
+            let increment: Vec<f64> = step
+                .target
+                .iter()
+                .zip(&self.temperature)
+                .map(|(t, tc)| t - tc)
+                .collect();
+            self.report.residual = self.outer_residual(&step, &increment);
+            let solver = &self.setup.params.solver;
+            let outer_met = self.report.residual <= solver.tolerance;
+            let unmet = first_unmet(
+                outer_met,
+                step.local.film.as_ref(),
+                solver.fluid_tolerance,
+                self.heat_solution.as_ref(),
+            );
+            let termination = match unmet {
+                None => Termination::Converged,
+                Some(limited_by) if self.report.iterations >= solver.max_iterations => {
+                    Termination::MaxIterationsReached { limited_by }
+                }
+                Some(_) => {
+                    self.update(step, increment);
+                    continue;
+                }
+            };
+            self.report.stop(termination);
+            return Ok(self.finish(step));
+        }
+    }
+
+    /// One outer iteration up to the new temperature target; None if the film had no solution and the
+    /// temperature update was backtracked.
+    fn step(&mut self) -> Result<Option<Step>> {
+        let params = self.setup.params;
+        // materials at T → microcontact and fluid → failure stress → adhesion limit
+        let mats: Vec<MaterialState> = self
+            .temperature
+            .iter()
+            .map(|t| params.material.at(*t))
+            .collect();
+        let Some(local) = self.local(&mats)? else {
+            return Ok(None);
+        };
+        let adhesion = self.setup.adhesion(&local, &mats);
+        let traction = fastsim(
+            &self.setup.grid,
+            self.setup.creep,
+            self.setup.point.speed,
+            &self.setup.flex,
+            &adhesion.limit,
+        )?;
+        let (target, heat_flux_wheel) = self.heat(&traction.power_density)?;
+        Ok(Some(Step {
+            local,
+            adhesion,
+            traction,
+            target,
+            heat_flux_wheel,
+        }))
+    }
+
+    /// The film tolerance of this iteration (an inexact inner solve): while the temperature still moves,
+    /// the film need only be as accurate as the outer iteration; once the outer residual is within 100×
+    /// the tolerance (the next iteration may be the last) the film is solved to the full fluid tolerance.
+    fn film_tolerance(&self) -> f64 {
+        let solver = &self.setup.params.solver;
+        let fluid_tol = solver.fluid_tolerance;
+        if self.setup.temperature_feeds_back() && self.report.residual > 1e2 * solver.tolerance {
+            (1e-2 * self.report.residual).clamp(fluid_tol, fluid_tol.max(1e-5))
+        } else {
+            fluid_tol
+        }
+    }
+
+    /// Microcontact and film at the materials `mats`; None after a backtrack (the film had no solution at
+    /// the updated temperature: the update is halved back, the relaxation damped, the film restarted
+    /// cold). A backtrack at the iteration limit is an error.
+    fn local(&mut self, mats: &[MaterialState]) -> Result<Option<Local>> {
+        let film_tolerance = self.film_tolerance();
+        let start = self
+            .film
+            .as_ref()
+            .map(FilmSolution::as_start)
+            .or(self.warm_film.take());
+        let error = match self.setup.local(
+            mats,
+            self.dry_guess.as_deref(),
+            start,
+            film_tolerance,
+            &mut self.report,
+        ) {
+            Ok(local) => return Ok(Some(local)),
+            Err(e) => e,
+        };
+        self.backtracking.step_back(
+            error,
+            self.report.temperature_backtracks,
+            &mut self.temperature,
+        )?;
+        self.relaxation.damp();
+        self.film = None;
+        self.report.temperature_backtracks += 1;
+        if self.report.iterations >= self.setup.params.solver.max_iterations {
+            return Err(Error::Numerical {
+                stage: Stage::CoupledSolver,
+                reason: "the fluid film has no solution along the temperature iteration".into(),
+            });
+        }
+        Ok(None)
+    }
+
+    /// The surface temperature [K] and the heat flux density into the wheel [W/m²] that the frictional
+    /// power density `q` [W/m²] produces: T0 + the rise of the heat partition (warm-started from the last
+    /// one), or T0 and no flux without a heat model.
+    fn heat(&mut self, q: &[f64]) -> Result<(Vec<f64>, Vec<f64>)> {
+        let t0 = self.setup.bulk_temperature();
+        let Some(model) = &self.setup.heat else {
+            let n = self.setup.grid.len();
+            return Ok((vec![t0; n], vec![0.0; n]));
+        };
+        let hs = match &self.heat_solution {
+            Some(previous) => model.solve_from(q, previous)?,
+            None => model.solve(q)?,
+        };
+        let t: Vec<f64> = hs.temperature_rise.iter().map(|r| t0 + r).collect();
+        let q_wheel = hs.q_wheel.clone();
+        self.report.heat_iterations = hs.iterations;
+        self.report.heat_residual = hs.residual;
+        self.heat_solution = Some(hs);
+        Ok((t, q_wheel))
+    }
+
+    /// The outer residual: the larger of the relative change of τ_l since the last iteration and of the
+    /// relative temperature increment (its largest value over the largest rise above T0, at least 1 K);
+    /// 0 when the temperature does not feed back (one pass is the solution).
+    fn outer_residual(&self, step: &Step, increment: &[f64]) -> f64 {
+        if !self.setup.temperature_feeds_back() {
+            return 0.0;
+        }
+        let tau_l = &step.adhesion.limit;
+        let tau_scale = tau_l
+            .iter()
+            .cloned()
+            .fold(0.0, f64::max)
+            .max(f64::MIN_POSITIVE);
+        let tau_change = match &self.prev_tau {
+            Some(pt) => max_abs_diff(pt, tau_l) / tau_scale,
+            None => f64::INFINITY,
+        };
+        let t0 = self.setup.bulk_temperature();
+        let rise_scale = step.target.iter().map(|t| t - t0).fold(1.0, f64::max);
+        let t_change = increment.iter().fold(0.0, |m: f64, d| m.max(d.abs())) / rise_scale;
+        t_change.max(tau_change)
+    }
+
+    /// Prepares the next iteration: the relaxed temperature update, and this iteration's adhesion limit,
+    /// separations and film as the next one's references and starts.
+    fn update(&mut self, step: Step, increment: Vec<f64>) {
+        self.backtracking.remember(&self.temperature);
+        self.relaxation.apply(&mut self.temperature, increment);
+        self.prev_tau = Some(step.adhesion.limit);
+        self.dry_guess = Some(step.local.dry_separation);
+        self.film = step.local.film;
+    }
+
+    /// The final iterate, with the temperature produced by its traction field (equal to the iterate within
+    /// the tolerance when the temperature feeds back; the only temperature when it does not).
+    fn finish(self, step: Step) -> Iterate {
+        Iterate {
+            local: step.local,
+            adhesion: step.adhesion,
+            traction: step.traction,
+            heat_flux_wheel: step.heat_flux_wheel,
+            temperature: step.target,
+            report: self.report,
+        }
+    }
+}
+
+/// max_k |a_k − b_k|.
+fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .fold(0.0, |m: f64, (x, y)| m.max((x - y).abs()))
+}

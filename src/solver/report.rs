@@ -1,0 +1,266 @@
+//! How a solve went: why the outer iteration stopped, which solver limited it, and the inner solvers'
+//! iteration counts and residuals.
+
+use crate::fluid::FilmSolution;
+use crate::thermal::HeatSolution;
+use serde::Serialize;
+use serde::ser::{SerializeMap, Serializer};
+
+/// The solver whose convergence criterion was still unmet when the outer iteration stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Limiter {
+    /// The outer fixed point: the relative change of the adhesion limit or of the temperature rise per
+    /// iteration was above `solver.tolerance` (or the last film was solved only to the looser tolerance of
+    /// an early iteration): `solver.max_iterations` was too few.
+    Outer,
+    /// The fluid film solve of the last outer iteration did not converge within `solver.max_fluid_sweeps`.
+    Film,
+    /// The heat partition's GMRES of the last outer iteration did not reach its tolerance.
+    Heat,
+}
+
+impl std::fmt::Display for Limiter {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Limiter::Outer => "outer",
+            Limiter::Film => "film",
+            Limiter::Heat => "heat",
+        })
+    }
+}
+
+/// The first unmet convergence criterion of one outer iteration, inner solvers first (an unconverged inner
+/// solve makes the outer residual meaningless): the film of the iteration (its solve reached its sweep
+/// limit), then its heat partition (GMRES exhausted its budget), then the outer iteration (its residual
+/// above the tolerance, `outer_met` false, or a film solved only to the looser tolerance of an early
+/// iteration rather than to `fluid_tolerance`: another iteration was needed). None when all are met.
+pub(super) fn first_unmet(
+    outer_met: bool,
+    film: Option<&FilmSolution>,
+    fluid_tolerance: f64,
+    heat: Option<&HeatSolution>,
+) -> Option<Limiter> {
+    if !film.is_none_or(|f| f.converged) {
+        Some(Limiter::Film)
+    } else if !heat.is_none_or(|h| h.converged) {
+        Some(Limiter::Heat)
+    } else if !(outer_met && film.is_none_or(|f| f.residual <= fluid_tolerance)) {
+        Some(Limiter::Outer)
+    } else {
+        None
+    }
+}
+
+/// Why the outer iteration stopped.
+///
+/// In JSON (flattened into [`SolverReport`]'s object) it is two keys: `termination` ("converged",
+/// "max_iterations_reached" or "closed_form") and `limited_by` ("outer", "film", "heat", or null unless
+/// the iteration limit was reached).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Termination {
+    /// Every criterion was met: the outer residual, the film and the heat partition.
+    Converged,
+    /// The iteration limit was reached first: the result is NOT converged; `limited_by` says which
+    /// criterion was still unmet (the film, then the heat partition, then the outer
+    /// residual: an unconverged inner solve makes the outer residual meaningless).
+    MaxIterationsReached {
+        /// The solver whose criterion was unmet at the last iteration.
+        limited_by: Limiter,
+    },
+    /// A closed-form law (Polach) needs no iteration.
+    ClosedForm,
+}
+
+impl Termination {
+    /// Whether the result is a solution: converged, or closed form.
+    pub fn converged(self) -> bool {
+        !matches!(self, Termination::MaxIterationsReached { .. })
+    }
+
+    /// The solver that kept the iteration from converging (None if it did not).
+    pub fn limited_by(self) -> Option<Limiter> {
+        match self {
+            Termination::MaxIterationsReached { limited_by } => Some(limited_by),
+            _ => None,
+        }
+    }
+
+    /// The `termination` text: "converged", "max_iterations_reached" or "closed_form".
+    pub fn name(self) -> &'static str {
+        match self {
+            Termination::Converged => "converged",
+            Termination::MaxIterationsReached { .. } => "max_iterations_reached",
+            Termination::ClosedForm => "closed_form",
+        }
+    }
+}
+
+impl Serialize for Termination {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut map = serializer.serialize_map(Some(2))?;
+        map.serialize_entry("termination", self.name())?;
+        map.serialize_entry("limited_by", &self.limited_by())?;
+        map.end()
+    }
+}
+
+/// How the coupled solve went.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SolverReport {
+    /// Outer iterations performed.
+    pub iterations: usize,
+    /// Final residual: the larger of the relative change of the adhesion limit and of the temperature rise.
+    pub residual: f64,
+    /// Whether the result is converged (equal to `termination.converged()`).
+    pub converged: bool,
+    /// Why the iteration stopped, and which solver limited it.
+    #[serde(flatten)]
+    pub termination: Termination,
+    /// Largest number of root-finder iterations of one microcontact separation solve.
+    pub max_microcontact_iterations: usize,
+    /// Iterations of the last fluid film solve (0 without fluid).
+    pub fluid_sweeps: usize,
+    /// Residual of the last fluid film solve (0 without fluid).
+    pub fluid_residual: f64,
+    /// Largest volume-balance residual of a cell of the last film solve, relative to the flow of the
+    /// inlet film through one cell width (0 without fluid) [-].
+    pub fluid_balance_residual: f64,
+    /// GMRES steps of the last heat partition solve (0 without heat).
+    pub heat_iterations: usize,
+    /// Relative residual of the last heat partition solve (0 without heat) [-].
+    pub heat_residual: f64,
+    /// Times the fluid film had no solution at a temperature update, so that the update was halved back
+    /// and the film restarted cold.
+    pub temperature_backtracks: usize,
+}
+
+impl SolverReport {
+    /// The report of a closed-form evaluation: no iteration, converged.
+    pub fn closed_form() -> Self {
+        Self {
+            iterations: 0,
+            residual: 0.0,
+            converged: true,
+            termination: Termination::ClosedForm,
+            max_microcontact_iterations: 0,
+            fluid_sweeps: 0,
+            fluid_residual: 0.0,
+            fluid_balance_residual: 0.0,
+            heat_iterations: 0,
+            heat_residual: 0.0,
+            temperature_backtracks: 0,
+        }
+    }
+
+    /// The report before the first outer iteration.
+    pub(super) fn start() -> Self {
+        Self {
+            residual: f64::INFINITY,
+            converged: false,
+            termination: Termination::MaxIterationsReached {
+                limited_by: Limiter::Outer,
+            },
+            ..Self::closed_form()
+        }
+    }
+
+    /// Records why the iteration stopped (`converged` follows).
+    pub(super) fn stop(&mut self, termination: Termination) {
+        self.termination = termination;
+        self.converged = termination.converged();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A four-cell film as the film solver reports it.
+    fn film(converged: bool, residual: f64) -> FilmSolution {
+        let v = vec![0.0; 4];
+        FilmSolution {
+            separation: v.clone(),
+            fluid_pressure: v.clone(),
+            fluid_height: v.clone(),
+            void_height: v.clone(),
+            area_fraction: v.clone(),
+            metal_load: v,
+            regime: vec![crate::fluid::Regime::Dry; 4],
+            iterations: 3,
+            residual,
+            balance_residual: 0.0,
+            converged,
+            inflow: 0.0,
+            rejected: 0.0,
+            outflow: 0.0,
+            expelled: 0.0,
+        }
+    }
+
+    /// A heat partition as GMRES reports it (the budget of 600 steps is a constant of the partition
+    /// solve, never exhausted by the solver's grids: an exhausted one is provoked here).
+    fn heat(converged: bool) -> HeatSolution {
+        HeatSolution {
+            temperature_rise: vec![1.0; 4],
+            q_wheel: vec![1.0; 4],
+            q_rail: vec![1.0; 4],
+            mismatch: 0.0,
+            iterations: 600,
+            residual: if converged { 1e-13 } else { 1e-9 },
+            converged,
+        }
+    }
+
+    #[test]
+    fn the_first_unmet_criterion_is_reported_inner_solvers_first() {
+        let (good_film, good_heat) = (film(true, 1e-9), heat(true));
+        let all =
+            |outer, f: &FilmSolution, h: &HeatSolution| first_unmet(outer, Some(f), 1e-8, Some(h));
+        assert_eq!(all(true, &good_film, &good_heat), None);
+        assert_eq!(first_unmet(true, None, 1e-8, None), None);
+        assert_eq!(all(false, &good_film, &good_heat), Some(Limiter::Outer));
+        assert_eq!(first_unmet(false, None, 1e-8, None), Some(Limiter::Outer));
+        // the heat partition's GMRES exhausted its budget
+        assert_eq!(all(true, &good_film, &heat(false)), Some(Limiter::Heat));
+        assert_eq!(all(false, &good_film, &heat(false)), Some(Limiter::Heat));
+        assert_eq!(
+            first_unmet(true, None, 1e-8, Some(&heat(false))),
+            Some(Limiter::Heat)
+        );
+        // the film did not converge; one converged only to the looser tolerance of an early iteration
+        // needs another outer iteration
+        assert_eq!(
+            all(true, &film(false, 1e-9), &good_heat),
+            Some(Limiter::Film)
+        );
+        assert_eq!(
+            all(true, &film(true, 1e-7), &good_heat),
+            Some(Limiter::Outer)
+        );
+        assert_eq!(
+            all(false, &film(false, 1.0), &heat(false)),
+            Some(Limiter::Film)
+        );
+    }
+
+    #[test]
+    fn the_report_serialises_termination_and_limiter_as_two_flat_keys() {
+        let mut r = SolverReport::start();
+        r.stop(Termination::MaxIterationsReached {
+            limited_by: Limiter::Heat,
+        });
+        let v = serde_json::to_value(r).unwrap();
+        assert_eq!(v["termination"], "max_iterations_reached");
+        assert_eq!(v["limited_by"], "heat");
+        assert_eq!(v["converged"], false);
+        r.stop(Termination::Converged);
+        let v = serde_json::to_value(r).unwrap();
+        assert_eq!(v["termination"], "converged");
+        assert!(v["limited_by"].is_null());
+        assert_eq!(v["converged"], true);
+        let v = serde_json::to_value(SolverReport::closed_form()).unwrap();
+        assert_eq!(v["termination"], "closed_form");
+        assert!(v["limited_by"].is_null());
+    }
+}

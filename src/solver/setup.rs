@@ -1,0 +1,119 @@
+//! What stays fixed while one operating point is solved: the normal contact, the grid with its nominal
+//! pressures, the FASTSIM flexibilities, the microcontact model and the heat model.
+
+use crate::contact::{ContactGrid, HertzContact};
+use crate::error::Result;
+use crate::fluid::base_height;
+use crate::materials::MaterialState;
+use crate::microcontact::Microcontact;
+use crate::params::{FrictionLaw, OperatingPoint, Params};
+use crate::tangential::{Creepages, Flexibilities, KalkerCoefficients};
+use crate::thermal::HeatModel;
+
+/// The nominal normal contact for a parameter set and a load: Hertz from the curvatures (E* at the bulk
+/// temperature), or the prescribed semi-axes (docs/model.md §2).
+pub fn normal_contact(params: &Params, normal_force: f64) -> Result<HertzContact> {
+    match params.geometry.semi_axes {
+        Some([a, b]) => HertzContact::from_semi_axes(a, b, normal_force),
+        None => {
+            let m = params.material.at(params.material.bulk_temperature);
+            HertzContact::from_curvatures(
+                params.geometry.curvature_x,
+                params.geometry.curvature_y,
+                normal_force,
+                m.e_star,
+            )
+        }
+    }
+}
+
+/// Wheel and rail surface speeds through the contact, V·(1 ± ξ/2) [m/s] (docs/model.md §1).
+pub fn surface_speeds(point: &OperatingPoint) -> (f64, f64) {
+    (
+        point.speed * (1.0 + point.creepage_x / 2.0),
+        point.speed * (1.0 - point.creepage_x / 2.0),
+    )
+}
+
+/// Everything fixed for one operating point of the coupled (not closed-form) laws.
+pub(super) struct Setup<'a> {
+    /// The parameters (validated).
+    pub params: &'a Params,
+    /// The operating point (validated).
+    pub point: &'a OperatingPoint,
+    /// The nominal normal contact.
+    pub hertz: HertzContact,
+    /// Creepages (ξ, η, φ) of the point.
+    pub creep: Creepages,
+    /// FASTSIM flexibilities of the contact.
+    pub flex: Flexibilities,
+    /// The contact grid.
+    pub grid: ContactGrid,
+    /// Nominal pressure per cell: the parabola with the Hertz force [Pa].
+    pub p_n: Vec<f64>,
+    /// The microcontact model of the roughness.
+    pub micro: Microcontact,
+    /// Cell base height d_b (P7) [m].
+    pub base_height: f64,
+    /// The heat model (None with heat switched off or in pure rolling, where nothing heats).
+    pub heat: Option<HeatModel>,
+}
+
+impl<'a> Setup<'a> {
+    /// The grid of the contact `hertz` with its parabolic pressure, the flexibilities from the Kalker
+    /// coefficients and the shear modulus of `mat0` (the material at the bulk temperature), the heat model
+    /// at the surface speeds and the microcontact model of the roughness.
+    pub fn new(
+        params: &'a Params,
+        point: &'a OperatingPoint,
+        hertz: HertzContact,
+        mat0: &MaterialState,
+        kalker: &KalkerCoefficients,
+        creep: Creepages,
+    ) -> Result<Self> {
+        let grid = ContactGrid::for_contact(&hertz, params.grid.nx, params.grid.ny);
+        let flex = Flexibilities::new(hertz.a, hertz.b, mat0.shear_modulus, kalker);
+        let p_n: Vec<f64> = grid
+            .cells
+            .iter()
+            .map(|c| hertz.parabolic_pressure(c.x, c.y))
+            .collect();
+        let rolling = creep.xi == 0.0 && creep.eta == 0.0 && creep.phi == 0.0;
+        let heat = if params.solver.heat && !rolling {
+            let (v_wheel, v_rail) = surface_speeds(point);
+            Some(HeatModel::new(&grid, v_wheel, v_rail, &params.material)?)
+        } else {
+            None
+        };
+        let micro = Microcontact::new(&params.roughness)?;
+        Ok(Self {
+            params,
+            point,
+            hertz,
+            creep,
+            flex,
+            base_height: base_height(micro.surface().z_s, params.fluid.psi_b),
+            grid,
+            p_n,
+            micro,
+            heat,
+        })
+    }
+
+    /// Whether the law models the interfacial fluid: only the Tomberger law, through the failure stress
+    /// and the metallic area (the others ignore the wetness).
+    pub fn models_fluid(&self) -> bool {
+        self.params.friction.law == FrictionLaw::Tomberger
+    }
+
+    /// Whether the temperature feeds back into the traction (heat on and the Tomberger law, whose failure
+    /// stress depends on it): only then does the outer iteration iterate.
+    pub fn temperature_feeds_back(&self) -> bool {
+        self.heat.is_some() && self.params.friction.law == FrictionLaw::Tomberger
+    }
+
+    /// The bulk temperature T0 [K].
+    pub fn bulk_temperature(&self) -> f64 {
+        self.params.material.bulk_temperature
+    }
+}
