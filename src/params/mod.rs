@@ -441,7 +441,13 @@ mod tests {
             (Bound::Closed(lo) | Bound::Open(lo), Bound::Closed(hi) | Bound::Open(hi)) => (lo, hi),
             _ => (s.default, 3.0 * s.default),
         };
-        let x = lo + (hi - lo) * if s.default == 0.5 * (lo + hi) { 0.25 } else { 0.5 };
+        let x = lo
+            + (hi - lo)
+                * if s.default == 0.5 * (lo + hi) {
+                    0.25
+                } else {
+                    0.5
+                };
         let x = if s.integer { x.round() } else { x };
         assert!(s.range.contains(x) && x != s.default, "{}", s.toml);
         x
@@ -452,7 +458,9 @@ mod tests {
         let table: toml::Table = toml::from_str(doc).unwrap();
         let mut v = &toml::Value::Table(table);
         for part in key.split('.') {
-            v = v.get(part).unwrap_or_else(|| panic!("no key {key} in\n{doc}"));
+            v = v
+                .get(part)
+                .unwrap_or_else(|| panic!("no key {key} in\n{doc}"));
         }
         v.as_float()
             .or_else(|| v.as_integer().map(|i| i as f64))
@@ -503,7 +511,16 @@ mod tests {
         assert!(p.validate().is_err());
         p.geometry.semi_axes = Some([5e-3, 2.0]);
         let e = p.validate().unwrap_err();
-        assert!(matches!(e, Error::Invalid { key: Key::SemiAxisB, .. }), "{e:?}");
+        assert!(
+            matches!(
+                e,
+                Error::Invalid {
+                    key: Key::SemiAxisB,
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
         assert_eq!(
             e.to_string(),
             "invalid value for geometry.semi_axes[1]: 2 (allowed: finite, 0.000001 ..= 1 m)"

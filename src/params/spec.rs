@@ -84,18 +84,23 @@ impl Range {
 
     /// The bounds as text: `0 ..= 1`, `> 0`, `>= 0 and < 1`; empty without bounds.
     pub fn bounds(&self) -> String {
+        self.bounds_with(|x| x.to_string())
+    }
+
+    /// The bounds as text with the numbers formatted by `number`.
+    pub fn bounds_with(&self, number: impl Fn(f64) -> String) -> String {
         match (self.lo, self.hi) {
-            (Bound::Closed(lo), Bound::Closed(hi)) => format!("{lo} ..= {hi}"),
+            (Bound::Closed(lo), Bound::Closed(hi)) => format!("{} ..= {}", number(lo), number(hi)),
             (lo, hi) => {
                 let lo = match lo {
                     Bound::Unbounded => None,
-                    Bound::Closed(x) => Some(format!(">= {x}")),
-                    Bound::Open(x) => Some(format!("> {x}")),
+                    Bound::Closed(x) => Some(format!(">= {}", number(x))),
+                    Bound::Open(x) => Some(format!("> {}", number(x))),
                 };
                 let hi = match hi {
                     Bound::Unbounded => None,
-                    Bound::Closed(x) => Some(format!("<= {x}")),
-                    Bound::Open(x) => Some(format!("< {x}")),
+                    Bound::Closed(x) => Some(format!("<= {}", number(x))),
+                    Bound::Open(x) => Some(format!("< {}", number(x))),
                 };
                 lo.into_iter().chain(hi).collect::<Vec<_>>().join(" and ")
             }
@@ -711,8 +716,14 @@ mod tests {
 
     #[test]
     fn ranges_describe_themselves_as_errors_did() {
-        assert_eq!(Range::closed(0.0, 1.0).describe(Unit::One), "finite, 0 ..= 1");
-        assert_eq!(Range::POSITIVE.describe(Unit::PascalSecond), "finite, > 0 Pa s");
+        assert_eq!(
+            Range::closed(0.0, 1.0).describe(Unit::One),
+            "finite, 0 ..= 1"
+        );
+        assert_eq!(
+            Range::POSITIVE.describe(Unit::PascalSecond),
+            "finite, > 0 Pa s"
+        );
         let half_open = Range {
             lo: Bound::Closed(0.0),
             hi: Bound::Open(1.0),
@@ -726,6 +737,9 @@ mod tests {
         assert_eq!(free.describe(Unit::One), "finite");
         assert!(free.contains(-1e300) && !free.contains(f64::NEG_INFINITY));
         assert!(!Range::POSITIVE.contains(0.0) && Range::POSITIVE.contains(1e-300));
-        assert_eq!(Param::PsiB.spec().allowed(), "finite, 0.5 ..= 0.999999999999999");
+        assert_eq!(
+            Param::PsiB.spec().allowed(),
+            "finite, 0.5 ..= 0.999999999999999"
+        );
     }
 }
