@@ -242,7 +242,7 @@ impl std::fmt::Display for Key {
 }
 
 impl Key {
-    /// The error for `value` of this key outside `range`.
+    /// The error for a `value` of this key outside the `allowed` values (as text, with the unit).
     pub fn invalid(self, value: f64, allowed: String) -> Error {
         Error::Invalid {
             key: self,

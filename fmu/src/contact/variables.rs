@@ -1,6 +1,9 @@
 //! The variable table of WheelRailFriction.fmu: the single source of `modelDescription.xml`, of get/set by
 //! value reference and of the documentation's variable list. The value reference of each variable is its
-//! index in [`VARIABLES`].
+//! index in [`VARIABLES`]. The inputs and the model's parameters are rows of the library's parameter
+//! specification (`wheelrail::params::spec`: name, value reference, unit, start, range and, for the
+//! parameters, description); the FMU adds its own variables (outputs, `grid_size`, `mode`, `table_file`,
+//! `minimum_speed`, `warm_start`) and its inputs' conventions (ranges, nominal values, descriptions).
 //!
 //! Frame and signs (MODEL.md §1): x along the track in the direction of travel for positive
 //! `rolling_speed`, y lateral, z normal into the rail. Creepages are the rigid slip velocity of the wheel
