@@ -8,7 +8,7 @@ VENV := .venv
 VPY := $(VENV)/bin/python
 FMU := target/fmu/WheelRailFriction.fmu
 
-.PHONY: all build test test-rust test-python lint demo clean venv fmu fmu-lib model-description bench table
+.PHONY: all build test test-rust test-python lint demo clean venv fmu fmu-lib model-description parameter-docs bench table
 
 all: build
 
@@ -30,6 +30,10 @@ test-rust: fmu-lib
 # regenerate modelDescription/modelDescription.xml from the variable table (a test checks it is current)
 model-description:
 	$(CARGO) run --release -p wheelrail-cli --bin package-fmu -- --model-description modelDescription/modelDescription.xml
+
+# regenerate docs/parameters.md from the parameter specification src/params/spec.rs (a test checks it is current)
+parameter-docs:
+	$(CARGO) run --release -p wheelrail-cli --bin wheelrail -- parameters --markdown > docs/parameters.md
 
 # target/fmu/WheelRailFriction.fmu
 fmu: fmu-lib

@@ -1,17 +1,30 @@
 //! Error type of the library: every failure is a value, never a panic.
 
+use crate::params::Key;
 use thiserror::Error;
 
 /// Everything that can go wrong in the model: bad input, bad parameters, numerical failure, I/O.
 #[derive(Debug, Error)]
 pub enum Error {
-    /// An input or parameter outside its allowed range (NaN and infinities included).
+    /// A value outside its allowed range that is not a parameter or input of the specification (a
+    /// function's argument, a command-line option), named by a plain name.
     #[error("invalid value for {name}: {value} (allowed: {allowed})")]
     OutOfRange {
         /// Name of the quantity as the user spells it (TOML key or CLI flag).
         name: String,
         /// The offending value, formatted.
         value: String,
+        /// The allowed range with units.
+        allowed: String,
+    },
+    /// A parameter or operating-point input outside its allowed range (NaN and infinities included),
+    /// named by its typed key (displayed as its TOML key or, for an input, its command-line flag).
+    #[error("invalid value for {key}: {value} (allowed: {allowed})")]
+    Invalid {
+        /// Which parameter or input.
+        key: Key,
+        /// The offending value.
+        value: f64,
         /// The allowed range with units.
         allowed: String,
     },

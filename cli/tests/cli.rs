@@ -71,6 +71,49 @@ fn invalid_input_is_one_line_exit_2() {
 }
 
 #[test]
+fn committed_parameter_docs_are_current() {
+    let o = wheelrail(&["parameters", "--markdown"]);
+    assert!(o.status.success());
+    let committed = include_str!("../../docs/parameters.md");
+    assert!(
+        committed == String::from_utf8(o.stdout).unwrap(),
+        "docs/parameters.md differs from the parameter specification: run `make parameter-docs`"
+    );
+}
+
+#[test]
+fn parameters_json_lists_every_row_with_its_flag_and_fmu_variable() {
+    let o = wheelrail(&["parameters", "--json"]);
+    assert!(o.status.success());
+    let rows: Vec<serde_json::Value> = serde_json::from_slice(&o.stdout).unwrap();
+    let docs = include_str!("../../docs/parameters.md");
+    for r in &rows {
+        let toml = r["toml"].as_str().unwrap();
+        assert!(
+            docs.contains(&format!("| `{toml}` |")),
+            "{toml} missing in the docs"
+        );
+        if let Some(flag) = r["cli"].as_str() {
+            assert!(docs.contains(&format!("`{flag}`")), "{flag}");
+        }
+    }
+    let by_toml = |k: &str| rows.iter().find(|r| r["toml"] == k).unwrap();
+    let k_wet = by_toml("fluid.k_wet");
+    assert_eq!(k_wet["cli"], "--k-wet");
+    assert_eq!(k_wet["fmu"], "k_wet");
+    assert_eq!(k_wet["value_reference"], 18);
+    assert_eq!(k_wet["default"], 0.4);
+    let flow = by_toml("fluid.flow_resistance");
+    assert_eq!(
+        (flow["min"].as_f64(), flow["min_inclusive"].as_bool()),
+        (Some(0.0), Some(false))
+    );
+    assert!(flow["max"].is_null());
+    assert_eq!(by_toml("normal_force")["name"], "normal-force");
+    assert_eq!(rows.iter().filter(|r| r["kind"] == "input").count(), 6);
+}
+
+#[test]
 fn params_file_is_read_and_flags_override_it() {
     let f = tmp("p.toml");
     std::fs::write(

@@ -1,8 +1,8 @@
 //! Polach's closed-form creep-force law with slip-velocity-dependent friction (O. Polach, Wear 258 (2005)
 //! 992–1000; MODEL.md §12).
 
-use crate::error::{Error, Result, check_finite, check_positive};
-use crate::params;
+use crate::error::{Result, check_finite, check_positive};
+use crate::params::{self, Key, Param};
 use crate::tangential::{Creepages, KalkerCoefficients};
 use std::f64::consts::PI;
 
@@ -38,15 +38,18 @@ pub fn polach(
     creep: Creepages,
     speed: f64,
 ) -> Result<PolachForces> {
-    check_positive("friction.polach.mu0", p.mu0, "")?;
-    for (name, value) in [
-        ("friction.polach.a_ratio", p.a_ratio),
-        ("friction.polach.b_rate", p.b_rate),
-        ("friction.polach.k_a", p.k_a),
-        ("friction.polach.k_s", p.k_s),
+    // μ0 > 0: Polach's law divides by it; the others need only be non-negative
+    if !(p.mu0.is_finite() && p.mu0 > 0.0) {
+        return Err(Key::Param(Param::PolachMu0).invalid(p.mu0, "finite, > 0".into()));
+    }
+    for (key, value) in [
+        (Param::PolachARatio, p.a_ratio),
+        (Param::PolachBRate, p.b_rate),
+        (Param::PolachKA, p.k_a),
+        (Param::PolachKS, p.k_s),
     ] {
         if !(value.is_finite() && value >= 0.0) {
-            return Err(Error::out_of_range(name, value, "finite, >= 0"));
+            return Err(Key::Param(key).invalid(value, "finite, >= 0".into()));
         }
     }
     check_positive("semi-axis a", a, "m")?;

@@ -18,7 +18,7 @@ mod table;
 
 use crate::error::{Error, Result, Stage, check_finite, check_positive, check_range};
 use crate::materials::MaterialState;
-use crate::params::Roughness;
+use crate::params::{Param, Roughness};
 use gw::{Integrals, Law, PLASTIC_RATIO, Scheme};
 use gw_table::{GwTable, Stencil};
 use std::f64::consts::PI;
@@ -214,7 +214,7 @@ impl Microcontact {
     /// process-wide tables (the GW table of `gw_table` and the F_1.5 table of the direct quadrature) are
     /// built on first use, the GW table block by block.
     pub fn new(roughness: &Roughness) -> Result<Self> {
-        check_range("roughness.k_r", roughness.k_r, 0.0, 1.0, "")?;
+        Param::RoughnessKr.spec().check(roughness.k_r)?;
         let surface = Surface::from_roughness(roughness);
         check_positive("roughness z_s", surface.z_s, "m")?;
         check_positive("roughness R_a", surface.r_a, "m")?;

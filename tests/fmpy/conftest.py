@@ -4,6 +4,7 @@ The FMU is target/fmu/WheelRailFriction.fmu (override: WHEELRAIL_FMU) and the re
 target/release/wheelrail (override: WHEELRAIL_CLI); `make test-python` builds both first.
 """
 
+import functools
 import json
 import os
 import pathlib
@@ -15,22 +16,6 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 FMU = pathlib.Path(os.environ.get("WHEELRAIL_FMU", ROOT / "target" / "fmu" / "WheelRailFriction.fmu"))
 CLI = pathlib.Path(os.environ.get("WHEELRAIL_CLI", ROOT / "target" / "release" / "wheelrail"))
 GRID = 12
-
-# FMU input and parameter names -> `wheelrail point` flags
-CLI_FLAGS = {
-    "creepage_longitudinal": "--creepage-x",
-    "creepage_lateral": "--creepage-y",
-    "spin_creepage": "--spin",
-    "normal_force": "--normal-force",
-    "rolling_speed": "--speed",
-    "wetness": "--wetness",
-    "roughness": "--roughness",
-    "bulk_temperature": "--bulk-temperature",
-    "k_wet": "--k-wet",
-    "flow_resistance": "--flow-resistance",
-    "psi_b": "--psi-b",
-    "h_f_max": "--h-f-max",
-}
 
 # FMU outputs -> keys of `wheelrail point --json`
 CLI_OUTPUTS = {
@@ -53,14 +38,31 @@ def fmu_path():
 TABLE = ROOT / "fmu" / "resources" / "table"
 
 
+def cli():
+    if not CLI.exists():
+        pytest.fail(f"{CLI} is missing: build it with `make build`")
+    return str(CLI)
+
+
+@functools.lru_cache(maxsize=None)
+def parameter_rows():
+    """The rows of the parameter specification (`wheelrail parameters --json`, read once per session)."""
+    out = subprocess.run([cli(), "parameters", "--json"], check=True, capture_output=True, text=True).stdout
+    return json.loads(out)
+
+
+def cli_flags():
+    """FMU input and parameter names -> `wheelrail point` flags, from the parameter specification."""
+    return {row["fmu"]: row["cli"] for row in parameter_rows() if row["fmu"] and row["cli"]}
+
+
 def cli_point(table=False, **values):
     """`wheelrail point --json` for FMU-named inputs and parameters: on the test grid, or (table=True) by
     the default lookup table that the FMU bundles."""
-    if not CLI.exists():
-        pytest.fail(f"{CLI} is missing: build it with `make build`")
-    args = [str(CLI), "point", "--json"]
+    args = [cli(), "point", "--json"]
     args += ["--table", str(TABLE)] if table else ["--grid", f"{GRID},{GRID}"]
+    flags = cli_flags()
     for name, value in values.items():
-        args += [CLI_FLAGS[name], repr(float(value))]
+        args += [flags[name], repr(float(value))]
     out = subprocess.run(args, check=True, capture_output=True, text=True).stdout
     return json.loads(out)

@@ -2,7 +2,7 @@
 
 import zipfile
 
-from conftest import ROOT
+from conftest import ROOT, parameter_rows
 
 
 def test_fmpy_validation_reports_no_problems(fmu_path):
@@ -37,3 +37,23 @@ def test_model_description_declares_the_capabilities(fmu_path):
         if v.type == "Real":
             assert v.unit, v.name
     assert {c.name for c in md.logCategories} >= {"logEvents", "logStatusWarning", "logStatusError", "logAll"}
+
+
+def test_model_description_carries_the_parameter_specification(fmu_path):
+    from fmpy import read_model_description
+
+    variables = {v.name: v for v in read_model_description(fmu_path).modelVariables}
+    rows = [r for r in parameter_rows() if r["fmu"]]
+    assert {r["kind"] for r in rows} == {"input", "parameter"}
+    for r in rows:
+        v = variables[r["fmu"]]
+        assert v.valueReference == r["value_reference"], r["fmu"]
+        assert v.causality == r["kind"], r["fmu"]
+        assert v.unit == r["unit"], r["fmu"]
+        assert float(v.start) == r["default"], r["fmu"]
+        if r["kind"] == "parameter":
+            assert v.description == r["description"], r["fmu"]
+            for bound in ("min", "max"):
+                declared = getattr(v, bound)
+                expected = r[bound] if r[bound + "_inclusive"] else None
+                assert (None if declared is None else float(declared)) == expected, (r["fmu"], bound)

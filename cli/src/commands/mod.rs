@@ -2,6 +2,7 @@
 
 mod curve;
 mod fields;
+mod parameters;
 mod point;
 mod reproduce;
 mod table;
@@ -9,6 +10,8 @@ mod table;
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
+use wheelrail::params::spec::Spec;
+use wheelrail::params::{Input, Key, Param};
 use wheelrail::{FrictionLaw, OperatingPoint, Params};
 
 /// Wheel–rail friction after Tomberger et al. (Wear 271, 2011): exact coupled solver.
@@ -31,6 +34,9 @@ enum Command {
     Reproduce(reproduce::ReproduceArgs),
     /// Build, merge, verify and describe lookup tables of the model (tabulation mode).
     Table(table::TableArgs),
+    /// Print the specification of the parameters and operating-point inputs: keys, units, ranges,
+    /// defaults, flags and FMU variables (as text, JSON or the Markdown of docs/parameters.md).
+    Parameters(parameters::ParametersArgs),
 }
 
 /// Friction law names on the command line.
@@ -47,33 +53,11 @@ pub enum LawArg {
 /// The operating point and the model options shared by all subcommands.
 #[derive(Debug, Args, Clone)]
 pub struct ModelArgs {
-    /// Longitudinal creepage ξ [-].
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    creepage_x: f64,
-    /// Lateral creepage η [-].
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    creepage_y: f64,
-    /// Spin creepage φ [1/m].
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    spin: f64,
-    /// Normal force F_N [N].
-    #[arg(long, default_value_t = 100e3, allow_hyphen_values = true)]
-    normal_force: f64,
-    /// Rolling speed V [m/s].
-    #[arg(long, default_value_t = 30.0, allow_hyphen_values = true)]
-    speed: f64,
-    /// Wetness w ∈ [0, 1] (0 dry, 1 flooded inlet).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    wetness: f64,
-    /// Roughness parameter k_r ∈ [0, 1] [default: 0.5, or the parameter file's].
-    #[arg(long, allow_hyphen_values = true)]
-    roughness: Option<f64>,
+    #[command(flatten)]
+    values: ValueFlags,
     /// Local friction law [default: tomberger, or the parameter file's].
     #[arg(long, value_enum)]
     friction_law: Option<LawArg>,
-    /// Friction coefficient of the constant law [-] [default: 0.4].
-    #[arg(long, allow_hyphen_values = true)]
-    mu: Option<f64>,
     /// Gap curvatures A,B [1/m] (along x, along y).
     #[arg(long, value_name = "A,B", conflicts_with = "semi_axes")]
     curvatures: Option<String>,
@@ -86,27 +70,119 @@ pub struct ModelArgs {
     /// Switch frictional heating off (T = T0 everywhere).
     #[arg(long)]
     no_heat: bool,
-    /// Bulk temperature of wheel and rail [K] [default: 293.15].
-    #[arg(long, allow_hyphen_values = true)]
-    bulk_temperature: Option<f64>,
-    /// Fluid flow-resistance factor ξ_f [Pa·s] [default: 0.012, water].
-    #[arg(long, allow_hyphen_values = true)]
-    flow_resistance: Option<f64>,
-    /// Failure-stress factor under boundary lubrication k_wet [-] [default: 0.4].
-    #[arg(long, allow_hyphen_values = true)]
-    k_wet: Option<f64>,
-    /// Probability of asperity occurrence at the cell base height ψ_b [-] [default: 0.9995].
-    #[arg(long, allow_hyphen_values = true)]
-    psi_b: Option<f64>,
-    /// Inlet film height at wetness 1, h_f,max [m] [default: 20e-6].
-    #[arg(long, allow_hyphen_values = true)]
-    h_f_max: Option<f64>,
-    /// Fluid height over which k blends from k_dry to k_wet, h_bl [m] [default: 0.1e-6].
-    #[arg(long, allow_hyphen_values = true)]
-    h_bl: Option<f64>,
     /// Parameter file (TOML); flags override its values.
     #[arg(long, value_name = "FILE.toml")]
     params: Option<PathBuf>,
+}
+
+/// The value flags generated from the parameter specification ([`wheelrail::params::spec`]): one
+/// `--flag VALUE` per operating-point input and per scalar parameter with a command-line name, each
+/// with the row's description, unit, range and default as its help.
+#[derive(Debug, Clone, Default)]
+struct ValueFlags {
+    /// The parameters given on the command line.
+    params: Vec<(Param, f64)>,
+    /// The operating-point inputs given on the command line.
+    inputs: Vec<(Input, f64)>,
+}
+
+/// The rows with a flag and the flag: the inputs first, then the parameters.
+fn flagged() -> impl Iterator<Item = (&'static Spec, &'static str)> {
+    let inputs = Input::ALL.into_iter().map(Input::spec);
+    let params = Param::ALL.into_iter().map(Param::spec);
+    inputs
+        .chain(params)
+        .filter_map(|s| s.cli.map(|flag| (s, flag)))
+}
+
+/// A number in the shorter of its plain and its exponent form (`0.012`, `2e-5`, `2.1e11`), exact.
+pub fn compact(x: f64) -> String {
+    let (plain, exponent) = (x.to_string(), format!("{x:e}"));
+    if exponent.len() < plain.len() {
+        exponent
+    } else {
+        plain
+    }
+}
+
+/// The number format of a row's values: whole numbers plain (as a TOML file needs them), others
+/// [`compact`].
+pub fn number_format(s: &Spec) -> fn(f64) -> String {
+    if s.integer {
+        |x| x.to_string()
+    } else {
+        compact
+    }
+}
+
+/// A unit for help texts and tables: its symbol, `-` when dimensionless.
+pub fn unit_text(s: &Spec) -> &'static str {
+    match s.unit.symbol() {
+        "" => "-",
+        u => u,
+    }
+}
+
+/// The help text of a row's flag: description, unit, range and default.
+fn flag_help(s: &Spec) -> String {
+    let unit = unit_text(s);
+    let fallback = match s.key {
+        Key::Param(_) => ", or the parameter file's",
+        _ => "",
+    };
+    format!(
+        "{} [{unit}; {}] [default: {}{fallback}]",
+        s.description,
+        s.range.bounds_with(number_format(s)),
+        number_format(s)(s.default)
+    )
+}
+
+impl clap::FromArgMatches for ValueFlags {
+    fn from_arg_matches(m: &clap::ArgMatches) -> std::result::Result<Self, clap::Error> {
+        let mut v = ValueFlags::default();
+        v.update_from_arg_matches(m)?;
+        Ok(v)
+    }
+
+    fn update_from_arg_matches(
+        &mut self,
+        m: &clap::ArgMatches,
+    ) -> std::result::Result<(), clap::Error> {
+        let given = |s: &Spec| s.cli.and_then(|flag| m.get_one::<f64>(flag).copied());
+        for i in Input::ALL {
+            if let Some(x) = given(i.spec()) {
+                self.inputs.retain(|(j, _)| *j != i);
+                self.inputs.push((i, x));
+            }
+        }
+        for p in Param::ALL {
+            if let Some(x) = given(p.spec()) {
+                self.params.retain(|(q, _)| *q != p);
+                self.params.push((p, x));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Args for ValueFlags {
+    fn augment_args(cmd: clap::Command) -> clap::Command {
+        flagged().fold(cmd, |cmd, (s, flag)| {
+            cmd.arg(
+                clap::Arg::new(flag)
+                    .long(flag)
+                    .value_name("VALUE")
+                    .value_parser(clap::value_parser!(f64))
+                    .allow_hyphen_values(true)
+                    .help(flag_help(s)),
+            )
+        })
+    }
+
+    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+        Self::augment_args(cmd)
+    }
 }
 
 fn pair(name: &str, text: &str) -> Result<[f64; 2]> {
@@ -129,15 +205,19 @@ fn pair(name: &str, text: &str) -> Result<[f64; 2]> {
     Ok(out)
 }
 
-/// Parses a grid "NX,NY": two whole numbers 4 ..= 400.
+/// Parses a grid "NX,NY": two whole numbers in the ranges of `grid.nx` and `grid.ny` (4 ..= 400).
 pub fn grid_arg(text: &str) -> Result<(usize, usize)> {
     let [nx, ny] = pair("grid", text)?;
-    for (name, v) in [("grid (NX)", nx), ("grid (NY)", ny)] {
-        if v.fract() != 0.0 || !(4.0..=400.0).contains(&v) {
+    for (name, row, v) in [
+        ("grid (NX)", Param::GridNx, nx),
+        ("grid (NY)", Param::GridNy, ny),
+    ] {
+        let range = row.spec().range;
+        if v.fract() != 0.0 || !range.contains(v) {
             bail!(wheelrail::Error::out_of_range(
                 name,
                 v,
-                "whole number 4 ..= 400"
+                &format!("whole number {}", range.bounds())
             ));
         }
     }
@@ -151,8 +231,8 @@ impl ModelArgs {
             Some(path) => Params::from_toml_file(path)?,
             None => Params::default(),
         };
-        if let Some(k) = self.roughness {
-            p.roughness.k_r = k;
+        for &(key, x) in &self.values.params {
+            p.set(key, x);
         }
         if let Some(law) = self.friction_law {
             p.friction.law = match law {
@@ -160,9 +240,6 @@ impl ModelArgs {
                 LawArg::Constant => FrictionLaw::Constant,
                 LawArg::Polach => FrictionLaw::Polach,
             };
-        }
-        if let Some(mu) = self.mu {
-            p.friction.mu = mu;
         }
         if let Some(c) = &self.curvatures {
             let [a, b] = pair("curvatures", c)?;
@@ -179,38 +256,16 @@ impl ModelArgs {
         if self.no_heat {
             p.solver.heat = false;
         }
-        if let Some(t) = self.bulk_temperature {
-            p.material.bulk_temperature = t;
-        }
-        if let Some(v) = self.flow_resistance {
-            p.fluid.flow_resistance = v;
-        }
-        if let Some(v) = self.k_wet {
-            p.fluid.k_wet = v;
-        }
-        if let Some(v) = self.psi_b {
-            p.fluid.psi_b = v;
-        }
-        if let Some(v) = self.h_f_max {
-            p.fluid.h_f_max = v;
-        }
-        if let Some(v) = self.h_bl {
-            p.fluid.h_bl = v;
-        }
         p.validate()?;
         Ok(p)
     }
 
-    /// The operating point, validated.
+    /// The operating point: defaults, then the flags; validated.
     pub fn point(&self) -> Result<OperatingPoint> {
-        let pt = OperatingPoint {
-            creepage_x: self.creepage_x,
-            creepage_y: self.creepage_y,
-            spin: self.spin,
-            normal_force: self.normal_force,
-            speed: self.speed,
-            wetness: self.wetness,
-        };
+        let mut pt = OperatingPoint::default();
+        for &(key, x) in &self.values.inputs {
+            pt.set(key, x);
+        }
         pt.validate()?;
         Ok(pt)
     }
@@ -224,13 +279,18 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Fields(a) => fields::run(&a),
         Command::Reproduce(a) => reproduce::run(&a),
         Command::Table(a) => table::run(&a),
+        Command::Parameters(a) => parameters::run(&a),
     }
 }
 
 /// Exit code of an error: 2 for invalid input (values, parameter files), 1 otherwise.
 pub fn exit_code(e: &anyhow::Error) -> u8 {
     match e.downcast_ref::<wheelrail::Error>() {
-        Some(wheelrail::Error::OutOfRange { .. } | wheelrail::Error::ParameterFile { .. }) => 2,
+        Some(
+            wheelrail::Error::OutOfRange { .. }
+            | wheelrail::Error::Invalid { .. }
+            | wheelrail::Error::ParameterFile { .. },
+        ) => 2,
         _ => 1,
     }
 }
@@ -266,4 +326,100 @@ pub fn solution_json(params: &Params, s: &wheelrail::Solution) -> serde_json::Va
         serde_json::Value::String(params.friction.law.to_string()),
     );
     v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::{CommandFactory, Parser};
+
+    #[derive(Debug, Parser)]
+    struct Model {
+        #[command(flatten)]
+        model: ModelArgs,
+    }
+
+    fn parse(args: &[&str]) -> ModelArgs {
+        let argv = std::iter::once("wheelrail").chain(args.iter().copied());
+        Model::try_parse_from(argv).unwrap().model
+    }
+
+    /// A valid value of a row other than its default.
+    fn other_value(s: &Spec) -> f64 {
+        [0.5, 1.5, 0.9, 1.01]
+            .map(|f| s.default * f)
+            .into_iter()
+            .chain([0.5, -0.5, 1.0])
+            .find(|&x| x != s.default && s.range.contains(x))
+            .unwrap()
+    }
+
+    #[test]
+    fn the_command_line_is_well_formed() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn every_flag_of_the_specification_sets_its_row_over_the_parameter_file() {
+        let file =
+            std::env::temp_dir().join(format!("wheelrail-flags-{}.toml", std::process::id()));
+        for (s, flag) in flagged() {
+            let x = other_value(s);
+            let given = parse(&[&format!("--{flag}"), &format!("{x:?}")]);
+            match s.key {
+                Key::Param(p) => {
+                    assert_eq!(given.params().unwrap().get(p), x, "--{flag}");
+                    // the flag overrides the parameter file, which overrides the default
+                    let mut in_file = Params::default();
+                    in_file.set(p, x);
+                    std::fs::write(&file, in_file.to_toml_string()).unwrap();
+                    let path = file.to_str().unwrap();
+                    assert_eq!(parse(&["--params", path]).params().unwrap().get(p), x);
+                    let both = parse(&[
+                        "--params",
+                        path,
+                        &format!("--{flag}"),
+                        &s.default.to_string(),
+                    ]);
+                    assert_eq!(both.params().unwrap().get(p), s.default, "--{flag}");
+                    assert_eq!(given.point().unwrap(), OperatingPoint::default());
+                }
+                Key::Input(i) => {
+                    assert_eq!(given.point().unwrap().get(i), x, "--{flag}");
+                    assert_eq!(given.params().unwrap(), Params::default());
+                }
+                Key::SemiAxisA | Key::SemiAxisB => panic!("the semi-axes have no row"),
+            }
+            // out of range: the error names the row's key
+            let bad = parse(&[&format!("--{flag}"), "NaN"]);
+            let e = match s.key {
+                Key::Param(_) => bad.params().unwrap_err(),
+                _ => bad.point().unwrap_err(),
+            };
+            assert!(
+                matches!(e.downcast_ref(), Some(wheelrail::Error::Invalid { key, .. }) if *key == s.key),
+                "{e}"
+            );
+        }
+        let _ = std::fs::remove_file(file);
+    }
+
+    #[test]
+    fn the_help_of_every_flag_states_its_unit_range_and_default() {
+        let help = Model::command().render_long_help().to_string();
+        for (s, flag) in flagged() {
+            let text = flag_help(s);
+            assert!(help.contains(&format!("--{flag} <VALUE>")), "--{flag}");
+            assert!(help.contains(s.description), "--{flag}");
+            assert!(
+                text.contains(&format!("[default: {}", compact(s.default))),
+                "{text}"
+            );
+        }
+        assert!(flag_help(Input::NormalForce.spec()).ends_with("[N; 1e-3 ..= 1e8] [default: 1e5]"));
+        assert!(
+            flag_help(Param::FlowResistance.spec())
+                .ends_with("[Pa s; > 0] [default: 0.012, or the parameter file's]")
+        );
+    }
 }

@@ -34,6 +34,7 @@ use crate::fmi2::logging::Logger;
 use crate::fmi2::model::{Model, ModelInfo};
 use crate::fmi2::variables::{Value, Values};
 use std::path::{Path, PathBuf};
+use wheelrail::params::{Key, Param};
 use wheelrail::solver::WarmStart;
 use wheelrail::table::{Jacobian, TableOutput};
 use wheelrail::{Error, OperatingPoint, Params};
@@ -45,45 +46,36 @@ pub const DERIVATIVE_TOLERANCE: f64 = 1e-8;
 /// Relative finite-difference step of directional derivatives (times max(|u|, nominal) per input) [-].
 pub const DERIVATIVE_STEP: f64 = 1e-4;
 
-/// The library's names of values that the FMU exposes under other names (errors are reported with the
-/// FMU's names).
-const LIBRARY_NAMES: [(&str, usize); 14] = [
-    ("roughness.k_r", ROUGHNESS),
-    ("geometry.curvature_x", CURVATURE_LONGITUDINAL),
-    ("geometry.curvature_y", CURVATURE_LATERAL),
-    ("material.bulk_temperature", BULK_TEMPERATURE),
-    ("fluid.k_wet", K_WET),
-    ("fluid.flow_resistance", FLOW_RESISTANCE),
-    ("fluid.psi_b", PSI_B),
-    ("fluid.h_f_max", H_F_MAX),
-    ("grid.nx", GRID_SIZE),
-    ("creepage-x", CREEPAGE_LONGITUDINAL),
-    ("creepage-y", CREEPAGE_LATERAL),
-    ("spin", SPIN_CREEPAGE),
-    ("normal-force", NORMAL_FORCE),
-    ("speed", ROLLING_SPEED),
-];
+/// The FMU variable of a library key: the one of its specification row, and `grid_size` for the grid's
+/// cell counts (which it sets both).
+fn variable_of(key: Key) -> Option<usize> {
+    match key {
+        Key::Param(Param::GridNx | Param::GridNy) => Some(GRID_SIZE),
+        _ => key.spec()?.fmu.map(|f| f.value_reference as usize),
+    }
+}
 
-/// A library error in the FMU's terms.
+/// A library error in the FMU's terms: a value of an FMU variable is named by the variable, with the
+/// value as the FMU has it (before the frame turn and the grid's conversion).
 fn translate(e: Error, values: &Values) -> String {
-    match e {
-        Error::OutOfRange { name, allowed, .. } => {
-            match LIBRARY_NAMES.iter().find(|(n, _)| *n == name) {
-                Some((_, i)) => {
-                    let value = match &values.list()[*i] {
-                        Value::Real(x) => x.to_string(),
-                        Value::Integer(x) => x.to_string(),
-                        other => format!("{other:?}"),
-                    };
-                    format!(
-                        "invalid value for {}: {value} (allowed: {allowed})",
-                        VARIABLES[*i].name
-                    )
-                }
-                None => format!("invalid value for {name} (allowed: {allowed})"),
-            }
+    let (variable, name, allowed) = match &e {
+        Error::Invalid { key, allowed, .. } => (variable_of(*key), key.to_string(), allowed),
+        Error::OutOfRange { name, allowed, .. } => (None, name.clone(), allowed),
+        _ => return e.to_string(),
+    };
+    match variable {
+        Some(i) => {
+            let value = match &values.list()[i] {
+                Value::Real(x) => x.to_string(),
+                Value::Integer(x) => x.to_string(),
+                other => format!("{other:?}"),
+            };
+            format!(
+                "invalid value for {}: {value} (allowed: {allowed})",
+                VARIABLES[i].name
+            )
         }
-        other => other.to_string(),
+        None => format!("invalid value for {name} (allowed: {allowed})"),
     }
 }
 
@@ -206,14 +198,9 @@ impl WheelRailModel {
     /// The library's parameter set from the parameters (defaults for everything the FMU does not expose).
     fn params(values: &Values) -> Result<Params, String> {
         let mut p = Params::default();
-        p.roughness.k_r = values.real(ROUGHNESS);
-        p.geometry.curvature_x = values.real(CURVATURE_LONGITUDINAL);
-        p.geometry.curvature_y = values.real(CURVATURE_LATERAL);
-        p.material.bulk_temperature = values.real(BULK_TEMPERATURE);
-        p.fluid.k_wet = values.real(K_WET);
-        p.fluid.flow_resistance = values.real(FLOW_RESISTANCE);
-        p.fluid.psi_b = values.real(PSI_B);
-        p.fluid.h_f_max = values.real(H_F_MAX);
+        for (param, i) in EXPOSED_PARAMETERS {
+            p.set(param, values.real(i));
+        }
         // grid_size outside usize (negative) is mapped to 0, which the validation rejects by name
         let n = usize::try_from(values.integer(GRID_SIZE)).unwrap_or(0);
         p.grid.nx = n;
@@ -399,28 +386,16 @@ impl WheelRailModel {
     }
 }
 
-/// The Real parameters the library's parameter set is built from ([`WheelRailModel::params`]).
-const PARAMETERS: [usize; 8] = [
-    ROUGHNESS,
-    CURVATURE_LONGITUDINAL,
-    CURVATURE_LATERAL,
-    BULK_TEMPERATURE,
-    K_WET,
-    FLOW_RESISTANCE,
-    PSI_B,
-    H_F_MAX,
-];
-
 /// The bit patterns of the parameter values and of `grid_size`.
-type ParamKey = [u64; PARAMETERS.len() + 1];
+type ParamKey = [u64; EXPOSED_PARAMETERS.len() + 1];
 
-/// The key of the parameter-set cache ([`Setup`]).
+/// The key of the parameter-set cache ([`Setup`]): the values [`WheelRailModel::params`] reads.
 fn param_key(values: &Values) -> ParamKey {
-    let mut key = [0; PARAMETERS.len() + 1];
-    for (k, i) in key.iter_mut().zip(PARAMETERS) {
+    let mut key = [0; EXPOSED_PARAMETERS.len() + 1];
+    for (k, (_, i)) in key.iter_mut().zip(EXPOSED_PARAMETERS) {
         *k = values.real(i).to_bits();
     }
-    key[PARAMETERS.len()] = u64::from(values.integer(GRID_SIZE) as u32);
+    key[EXPOSED_PARAMETERS.len()] = u64::from(values.integer(GRID_SIZE) as u32);
     key
 }
 
@@ -579,6 +554,33 @@ mod tests {
         assert!(e.contains("roughness: 1.5"), "{e}");
         assert!(error_of(|v| v.set(MODE, Value::Integer(7))).contains("mode: 7"));
         assert!(error_of(|v| v.set(MINIMUM_SPEED, Value::Real(0.0))).contains("minimum_speed"));
+    }
+
+    #[test]
+    fn every_exposed_parameter_reaches_the_library_and_its_errors_name_the_variable() {
+        for (p, i) in EXPOSED_PARAMETERS {
+            let s = p.spec();
+            let x = [0.9, 1.01]
+                .map(|f| f * s.default)
+                .into_iter()
+                .find(|&x| s.range.contains(x))
+                .unwrap();
+            let mut v = Values::start(&VARIABLES);
+            v.set(i, Value::Real(x));
+            assert_eq!(WheelRailModel::params(&v).unwrap().get(p), x, "{}", s.toml);
+            v.set(i, Value::Real(f64::NAN));
+            let e = WheelRailModel::params(&v).err().unwrap();
+            let name = VARIABLES[i].name;
+            assert!(
+                e.starts_with(&format!("invalid value for {name}: NaN (allowed: finite")),
+                "{e}"
+            );
+        }
+        let e = error_of(|v| v.set(FLOW_RESISTANCE, Value::Real(0.0)));
+        assert!(
+            e.contains("flow_resistance: 0 (allowed: finite, > 0 Pa s)"),
+            "{e}"
+        );
     }
 
     /// A small table for the FMU's default parameters on a 6 × 6 grid, written to a temporary directory.

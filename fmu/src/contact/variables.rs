@@ -1,6 +1,9 @@
 //! The variable table of WheelRailFriction.fmu: the single source of `modelDescription.xml`, of get/set by
 //! value reference and of the documentation's variable list. The value reference of each variable is its
-//! index in [`VARIABLES`].
+//! index in [`VARIABLES`]. The inputs and the model's parameters are rows of the library's parameter
+//! specification (`wheelrail::params::spec`: name, value reference, unit, start, range and, for the
+//! parameters, description); the FMU adds its own variables (outputs, `grid_size`, `mode`, `table_file`,
+//! `minimum_speed`, `warm_start`) and its inputs' conventions (ranges, nominal values, descriptions).
 //!
 //! Frame and signs (MODEL.md §1): x along the track in the direction of travel for positive
 //! `rolling_speed`, y lateral, z normal into the rail. Creepages are the rigid slip velocity of the wheel
@@ -9,19 +12,39 @@
 
 use crate::fmi2::model::{DefaultExperiment, ModelInfo, Unit};
 use crate::fmi2::variables::{Causality, Kind, Variability, Variable};
+use wheelrail::params::spec::{Bound, Fmu, Spec};
+use wheelrail::params::{Input, Param};
+
+/// The FMU variable of a specification row (a compile-time error for a row without one).
+const fn exposed(s: &Spec) -> Fmu {
+    match s.fmu {
+        Some(f) => f,
+        None => panic!("the specification row has no FMU variable"),
+    }
+}
+
+/// The value reference of an input's variable.
+const fn input_vr(i: Input) -> usize {
+    exposed(i.spec()).value_reference as usize
+}
+
+/// The value reference of a parameter's variable.
+const fn parameter_vr(p: Param) -> usize {
+    exposed(p.spec()).value_reference as usize
+}
 
 /// `creepage_longitudinal` ξ [-].
-pub const CREEPAGE_LONGITUDINAL: usize = 0;
+pub const CREEPAGE_LONGITUDINAL: usize = input_vr(Input::CreepageX);
 /// `creepage_lateral` η [-].
-pub const CREEPAGE_LATERAL: usize = 1;
+pub const CREEPAGE_LATERAL: usize = input_vr(Input::CreepageY);
 /// `spin_creepage` φ [1/m].
-pub const SPIN_CREEPAGE: usize = 2;
+pub const SPIN_CREEPAGE: usize = input_vr(Input::Spin);
 /// `normal_force` F_N [N].
-pub const NORMAL_FORCE: usize = 3;
+pub const NORMAL_FORCE: usize = input_vr(Input::NormalForce);
 /// `rolling_speed` V [m/s].
-pub const ROLLING_SPEED: usize = 4;
+pub const ROLLING_SPEED: usize = input_vr(Input::Speed);
 /// `wetness` w [-].
-pub const WETNESS: usize = 5;
+pub const WETNESS: usize = input_vr(Input::Wetness);
 /// `force_longitudinal` F_x [N].
 pub const FORCE_LONGITUDINAL: usize = 6;
 /// `force_lateral` F_y [N].
@@ -39,21 +62,21 @@ pub const EVALUATION_MODE: usize = 12;
 /// `converged`.
 pub const CONVERGED: usize = 13;
 /// `roughness` k_r [-].
-pub const ROUGHNESS: usize = 14;
+pub const ROUGHNESS: usize = parameter_vr(Param::RoughnessKr);
 /// `curvature_longitudinal` A [1/m].
-pub const CURVATURE_LONGITUDINAL: usize = 15;
+pub const CURVATURE_LONGITUDINAL: usize = parameter_vr(Param::CurvatureX);
 /// `curvature_lateral` B [1/m].
-pub const CURVATURE_LATERAL: usize = 16;
+pub const CURVATURE_LATERAL: usize = parameter_vr(Param::CurvatureY);
 /// `bulk_temperature` T0 [K].
-pub const BULK_TEMPERATURE: usize = 17;
+pub const BULK_TEMPERATURE: usize = parameter_vr(Param::BulkTemperature);
 /// `k_wet` [-].
-pub const K_WET: usize = 18;
+pub const K_WET: usize = parameter_vr(Param::KWet);
 /// `flow_resistance` ξ_f [Pa·s].
-pub const FLOW_RESISTANCE: usize = 19;
+pub const FLOW_RESISTANCE: usize = parameter_vr(Param::FlowResistance);
 /// `psi_b` ψ_b [-].
-pub const PSI_B: usize = 20;
+pub const PSI_B: usize = parameter_vr(Param::PsiB);
 /// `h_f_max` [m].
-pub const H_F_MAX: usize = 21;
+pub const H_F_MAX: usize = parameter_vr(Param::HFMax);
 /// `grid_size` (cells per axis).
 pub const GRID_SIZE: usize = 22;
 /// `mode` (0 auto, 1 table only, 2 exact only).
@@ -68,28 +91,46 @@ pub const WARM_START: usize = 26;
 
 /// Default of `minimum_speed`: below this |V| the contact is solved at this speed [m/s].
 pub const DEFAULT_MINIMUM_SPEED: f64 = 0.01;
-/// Default of `grid_size` (MODEL.md §2 project default, 30 × 30 cells).
-pub const DEFAULT_GRID_SIZE: i32 = 30;
+/// Default of `grid_size`: the library's default `grid.nx` (docs/model.md §2 project default, 30 × 30
+/// cells).
+pub const DEFAULT_GRID_SIZE: i32 = Param::GridNx.default_value() as i32;
 
-const fn input(
-    name: &'static str,
-    vr: usize,
-    unit: &'static str,
-    start: f64,
-    range: (f64, f64),
-    nominal: f64,
-    description: &'static str,
-) -> Variable {
+/// A closed bound of the specification as an FMI `min`/`max` (a compile-time error for other bounds).
+const fn closed(b: Bound) -> f64 {
+    match b.closed() {
+        Some(x) => x,
+        None => panic!("an FMU input needs a closed range"),
+    }
+}
+
+/// Which values an FMU input accepts.
+enum Accepts {
+    /// The library's range.
+    Library,
+    /// The library's range and its negative (rolling backwards, a lifted wheel).
+    Signed,
+}
+
+/// An input from its specification row (name, value reference, unit, start, range) with the FMU's own
+/// range rule, nominal magnitude and description (the FMU's conventions: signed speed, lift-off, clamped
+/// wetness).
+const fn input(i: Input, accepts: Accepts, nominal: f64, description: &'static str) -> Variable {
+    let (s, fmu) = (i.spec(), exposed(i.spec()));
+    let max = closed(s.range.hi);
+    let min = match accepts {
+        Accepts::Library => closed(s.range.lo),
+        Accepts::Signed => -max,
+    };
     Variable {
-        name,
-        vr: vr as u32,
+        name: fmu.name,
+        vr: fmu.value_reference,
         causality: Causality::Input,
         variability: Variability::Continuous,
         kind: Kind::Real {
-            unit,
-            start: Some(start),
-            min: Some(range.0),
-            max: Some(range.1),
+            unit: s.unit.fmi(),
+            start: Some(s.default),
+            min: Some(min),
+            max: Some(max),
             nominal: Some(nominal),
         },
         description,
@@ -118,7 +159,29 @@ const fn output(
     }
 }
 
-const fn parameter(
+/// A parameter wholly from its specification row: name, value reference, unit, start (the library's
+/// default), range (FMI states closed bounds only: an open or missing bound has no `min`/`max`) and
+/// description.
+const fn spec_parameter(p: Param) -> Variable {
+    let (s, fmu) = (p.spec(), exposed(p.spec()));
+    Variable {
+        name: fmu.name,
+        vr: fmu.value_reference,
+        causality: Causality::Parameter,
+        variability: Variability::Fixed,
+        kind: Kind::Real {
+            unit: s.unit.fmi(),
+            start: Some(s.default),
+            min: s.range.lo.closed(),
+            max: s.range.hi.closed(),
+            nominal: None,
+        },
+        description: s.description,
+    }
+}
+
+/// A Real parameter of the FMU's own (not a row of the library's specification).
+const fn own_parameter(
     name: &'static str,
     vr: usize,
     unit: &'static str,
@@ -163,62 +226,54 @@ const fn integer_parameter(
     }
 }
 
-/// Parameter defaults are the library's (`wheelrail::Params::default()`; a unit test checks them).
-pub static VARIABLES: [Variable; 27] = [
+/// The range of `grid_size`: that of the library's `grid.nx` (and `grid.ny`), which it sets.
+const GRID_RANGE: (i32, i32) = {
+    let r = Param::GridNx.spec().range;
+    (closed(r.lo) as i32, closed(r.hi) as i32)
+};
+
+/// The inputs, in the order of the library's operating point.
+const INPUT_VARIABLES: [Variable; 6] = [
     input(
-        "creepage_longitudinal",
-        CREEPAGE_LONGITUDINAL,
-        "1",
-        0.0,
-        (-1.9, 1.9),
+        Input::CreepageX,
+        Accepts::Library,
         1e-3,
         "Longitudinal creepage xi: rigid slip velocity of the wheel relative to the rail along x divided by |rolling_speed|",
     ),
     input(
-        "creepage_lateral",
-        CREEPAGE_LATERAL,
-        "1",
-        0.0,
-        (-1.9, 1.9),
+        Input::CreepageY,
+        Accepts::Library,
         1e-3,
         "Lateral creepage eta: rigid slip velocity of the wheel relative to the rail along y divided by |rolling_speed|",
     ),
     input(
-        "spin_creepage",
-        SPIN_CREEPAGE,
-        "1/m",
-        0.0,
-        (-1e4, 1e4),
+        Input::Spin,
+        Accepts::Library,
         1e-2,
         "Spin creepage phi: relative angular velocity of wheel and rail about the contact normal z divided by |rolling_speed|",
     ),
     input(
-        "normal_force",
-        NORMAL_FORCE,
-        "N",
-        100e3,
-        (-1e8, 1e8),
+        Input::NormalForce,
+        Accepts::Signed,
         1e5,
         "Normal force F_N pressing wheel and rail together; at or below 1 mN (wheel lifted) all forces are zero",
     ),
     input(
-        "rolling_speed",
-        ROLLING_SPEED,
-        "m/s",
-        30.0,
-        (-1e3, 1e3),
+        Input::Speed,
+        Accepts::Signed,
         10.0,
         "Rolling speed V along +x; negative: rolling backwards (solved by turning the contact frame); |V| below minimum_speed is raised to it",
     ),
     input(
-        "wetness",
-        WETNESS,
-        "1",
-        0.0,
-        (0.0, 1.0),
+        Input::Wetness,
+        Accepts::Library,
         1.0,
         "Wetness w: 0 dry, 1 inlet film height h_f_max; values outside [0, 1] are clamped with one warning",
     ),
+];
+
+/// The FMU's own variables: the outputs and the parameters of its evaluation.
+const OWN_VARIABLES: [Variable; 13] = [
     output(
         "force_longitudinal",
         FORCE_LONGITUDINAL,
@@ -275,75 +330,11 @@ pub static VARIABLES: [Variable; 27] = [
         kind: Kind::Boolean { start: None },
         description: "Whether the exact solver's coupled iteration met its tolerance; by table, whether every table point used converged when the table was built; true for a lifted wheel",
     },
-    parameter(
-        "roughness",
-        ROUGHNESS,
-        "1",
-        0.5,
-        (0.0, 1.0),
-        "Surface roughness parameter k_r: 0 smooth, 1 rough (MODEL.md section 4)",
-    ),
-    parameter(
-        "curvature_longitudinal",
-        CURVATURE_LONGITUDINAL,
-        "1/m",
-        1.015,
-        (1e-3, 1e3),
-        "Gap curvature A = (1/R_wx + 1/R_rx)/2 along x (Hertz, MODEL.md section 2)",
-    ),
-    parameter(
-        "curvature_lateral",
-        CURVATURE_LATERAL,
-        "1/m",
-        0.4215,
-        (1e-3, 1e3),
-        "Gap curvature B = (1/R_wy + 1/R_ry)/2 along y",
-    ),
-    parameter(
-        "bulk_temperature",
-        BULK_TEMPERATURE,
-        "K",
-        293.15,
-        (1.0, 2000.0),
-        "Bulk temperature T0 of wheel and rail",
-    ),
-    parameter(
-        "k_wet",
-        K_WET,
-        "1",
-        0.4,
-        (0.0, 10.0),
-        "Failure-stress factor k under boundary lubrication (paper Table 1)",
-    ),
-    parameter(
-        "flow_resistance",
-        FLOW_RESISTANCE,
-        "Pa.s",
-        0.012,
-        (1e-9, 1e6),
-        "Fluid flow-resistance factor xi_f, 12 x viscosity for a Newtonian fluid (water: 0.012)",
-    ),
-    parameter(
-        "psi_b",
-        PSI_B,
-        "1",
-        0.9995,
-        (0.5, 0.999999999999999),
-        "Probability of asperity occurrence at the cell base height psi_b (paper Table 1)",
-    ),
-    parameter(
-        "h_f_max",
-        H_F_MAX,
-        "m",
-        20e-6,
-        (0.0, 1e-2),
-        "Inlet fluid film height at wetness 1",
-    ),
     integer_parameter(
         "grid_size",
         GRID_SIZE,
         DEFAULT_GRID_SIZE,
-        (4, 400),
+        GRID_RANGE,
         "Cells per axis of the contact grid of the exact solver",
     ),
     integer_parameter(
@@ -361,7 +352,7 @@ pub static VARIABLES: [Variable; 27] = [
         kind: Kind::String { start: Some("") },
         description: "Lookup table location; empty: the table bundled in the FMU's resources/table",
     },
-    parameter(
+    own_parameter(
         "minimum_speed",
         MINIMUM_SPEED,
         "m/s",
@@ -378,6 +369,85 @@ pub static VARIABLES: [Variable; 27] = [
         description: "Exact solver: start each solve from the previous exact solution of this instance (its temperature, separation and film fields; several times fewer iterations between nearby steps). Results agree with a cold solve to within the solver tolerance; false makes every output a pure function of the current inputs",
     },
 ];
+
+/// The number of parameters of the library's specification that the FMU exposes.
+const EXPOSED: usize = {
+    let (mut n, mut k) = (0, 0);
+    while k < Param::ALL.len() {
+        if Param::ALL[k].spec().fmu.is_some() {
+            n += 1;
+        }
+        k += 1;
+    }
+    n
+};
+
+/// The parameters of the library's specification that the FMU exposes (the rows with an FMU variable),
+/// with their variables' indices, in the specification's order.
+pub const EXPOSED_PARAMETERS: [(Param, usize); EXPOSED] = {
+    let mut out = [(Param::ALL[0], 0); EXPOSED];
+    let (mut n, mut k) = (0, 0);
+    while k < Param::ALL.len() {
+        if let Some(f) = Param::ALL[k].spec().fmu {
+            out[n] = (Param::ALL[k], f.value_reference as usize);
+            n += 1;
+        }
+        k += 1;
+    }
+    out
+};
+
+/// The number of variables.
+const COUNT: usize = INPUT_VARIABLES.len() + OWN_VARIABLES.len() + EXPOSED;
+
+/// Puts a variable at its value reference; a clash or a reference beyond the table is a compile-time
+/// error.
+const fn place(mut slots: [Option<Variable>; COUNT], v: Variable) -> [Option<Variable>; COUNT] {
+    let i = v.vr as usize;
+    if i >= COUNT {
+        panic!("a value reference lies beyond the variable table");
+    }
+    if slots[i].is_some() {
+        panic!("two variables share a value reference");
+    }
+    slots[i] = Some(v);
+    slots
+}
+
+/// The variable table: the inputs, the FMU's own variables and the exposed parameters of the library's
+/// specification, each at its value reference (a gap is a compile-time error).
+const fn assemble() -> [Variable; COUNT] {
+    let mut slots = [None; COUNT];
+    let mut k = 0;
+    while k < INPUT_VARIABLES.len() {
+        slots = place(slots, INPUT_VARIABLES[k]);
+        k += 1;
+    }
+    k = 0;
+    while k < OWN_VARIABLES.len() {
+        slots = place(slots, OWN_VARIABLES[k]);
+        k += 1;
+    }
+    k = 0;
+    while k < EXPOSED {
+        slots = place(slots, spec_parameter(EXPOSED_PARAMETERS[k].0));
+        k += 1;
+    }
+    let mut table = [OWN_VARIABLES[0]; COUNT];
+    k = 0;
+    while k < COUNT {
+        table[k] = match slots[k] {
+            Some(v) => v,
+            None => panic!("a value reference is unused: the variable table has a gap"),
+        };
+        k += 1;
+    }
+    table
+}
+
+/// The variable table of the FMU; the value reference of each variable is its index. Parameter defaults
+/// and ranges are the library's (its specification, `wheelrail::params::spec`).
+pub static VARIABLES: [Variable; COUNT] = assemble();
 
 /// Units of the variables.
 pub static UNITS: [Unit; 8] = [
@@ -500,6 +570,40 @@ mod tests {
         assert_eq!(v.real(H_F_MAX), p.fluid.h_f_max);
         assert_eq!(v.integer(GRID_SIZE) as usize, p.grid.nx);
         assert_eq!(v.list()[TABLE_FILE], Value::String(String::new()));
+    }
+
+    #[test]
+    fn every_row_with_an_fmu_variable_is_that_variable() {
+        let rows = wheelrail::params::spec::specs().filter(|s| s.fmu.is_some());
+        for s in rows {
+            let f = s.fmu.unwrap();
+            let v = &VARIABLES[f.value_reference as usize];
+            assert_eq!(v.name, f.name);
+            let want = match s.key {
+                wheelrail::params::Key::Input(_) => Causality::Input,
+                _ => Causality::Parameter,
+            };
+            assert_eq!(v.causality, want, "{}", v.name);
+            let Kind::Real {
+                unit,
+                start,
+                min,
+                max,
+                ..
+            } = v.kind
+            else {
+                panic!("{} is not a Real", v.name)
+            };
+            assert_eq!((unit, start), (s.unit.fmi(), Some(s.default)), "{}", v.name);
+            // the FMU's range holds the library's (inputs may accept more: signed speed, lift-off)
+            for x in [min, max].into_iter().flatten() {
+                assert!(
+                    s.range.contains(x) || want == Causality::Input,
+                    "{}",
+                    v.name
+                );
+            }
+        }
     }
 
     #[test]

@@ -1,11 +1,15 @@
 //! The parameter set of the model (MODEL.md §2–8, 12) and the operating point.
 //!
-//! Every default is the MODEL.md value or project default; every field is a TOML key. A parameter set is
-//! validated by [`Params::validate`] (called by [`Params::from_toml_str`] and by the solver), which names
-//! the offending key and its allowed range.
+//! Every default is the MODEL.md value or project default; every field is a TOML key. The names, units,
+//! allowed ranges and defaults of the scalar parameters and inputs are the rows of [`spec`]. A parameter
+//! set is validated by [`Params::validate`] (called by [`Params::from_toml_str`] and by the solver), whose
+//! error carries the offending row's [`Key`] and its allowed range.
 
-use crate::error::{Error, Result, check_positive, check_range};
+pub mod spec;
+
+use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
+pub use spec::{Input, Key, Param};
 
 /// Kelvin offset of the Celsius scale.
 pub const CELSIUS_ZERO: f64 = 273.15;
@@ -26,8 +30,8 @@ pub struct Geometry {
 impl Default for Geometry {
     fn default() -> Self {
         Self {
-            curvature_x: 1.015,
-            curvature_y: 0.4215,
+            curvature_x: Param::CurvatureX.default_value(),
+            curvature_y: Param::CurvatureY.default_value(),
             semi_axes: None,
         }
     }
@@ -78,24 +82,24 @@ pub struct Material {
 impl Default for Material {
     fn default() -> Self {
         Self {
-            youngs_modulus: 210e9,
-            youngs_slope: 4.0e-4,
-            youngs_floor: 0.1,
-            poisson: 0.28,
-            yield_stress: 600e6,
-            yield_span: 975.0,
-            yield_floor: 0.05,
-            anomaly_amplitude: 0.3,
-            anomaly_temperature: 450.0 + CELSIUS_ZERO,
-            anomaly_width: 80.0,
-            hardness: 4e9,
-            hardness_span: 1200.0,
-            hardness_floor: 0.05,
-            reference_temperature: 20.0 + CELSIUS_ZERO,
-            conductivity: 50.0,
-            density: 7850.0,
-            specific_heat: 450.0,
-            bulk_temperature: 20.0 + CELSIUS_ZERO,
+            youngs_modulus: Param::YoungsModulus.default_value(),
+            youngs_slope: Param::YoungsSlope.default_value(),
+            youngs_floor: Param::YoungsFloor.default_value(),
+            poisson: Param::Poisson.default_value(),
+            yield_stress: Param::YieldStress.default_value(),
+            yield_span: Param::YieldSpan.default_value(),
+            yield_floor: Param::YieldFloor.default_value(),
+            anomaly_amplitude: Param::AnomalyAmplitude.default_value(),
+            anomaly_temperature: Param::AnomalyTemperature.default_value(),
+            anomaly_width: Param::AnomalyWidth.default_value(),
+            hardness: Param::Hardness.default_value(),
+            hardness_span: Param::HardnessSpan.default_value(),
+            hardness_floor: Param::HardnessFloor.default_value(),
+            reference_temperature: Param::ReferenceTemperature.default_value(),
+            conductivity: Param::Conductivity.default_value(),
+            density: Param::Density.default_value(),
+            specific_heat: Param::SpecificHeat.default_value(),
+            bulk_temperature: Param::BulkTemperature.default_value(),
         }
     }
 }
@@ -122,12 +126,12 @@ pub struct Roughness {
 impl Default for Roughness {
     fn default() -> Self {
         Self {
-            k_r: 0.5,
-            z_s_smooth: 2.5e-6,
-            z_s_span: 5.0e-6,
-            ratio_smooth: 3e-4,
-            ratio_span: 9e-4,
-            beta: 0.12,
+            k_r: Param::RoughnessKr.default_value(),
+            z_s_smooth: Param::ZsSmooth.default_value(),
+            z_s_span: Param::ZsSpan.default_value(),
+            ratio_smooth: Param::RatioSmooth.default_value(),
+            ratio_span: Param::RatioSpan.default_value(),
+            beta: Param::Beta.default_value(),
         }
     }
 }
@@ -189,11 +193,11 @@ pub struct Polach {
 impl Default for Polach {
     fn default() -> Self {
         Self {
-            mu0: 0.55,
-            a_ratio: 0.4,
-            b_rate: 0.6,
-            k_a: 1.0,
-            k_s: 0.4,
+            mu0: Param::PolachMu0.default_value(),
+            a_ratio: Param::PolachARatio.default_value(),
+            b_rate: Param::PolachBRate.default_value(),
+            k_a: Param::PolachKA.default_value(),
+            k_s: Param::PolachKS.default_value(),
         }
     }
 }
@@ -216,8 +220,8 @@ impl Default for Friction {
     fn default() -> Self {
         Self {
             law: FrictionLaw::Tomberger,
-            k_dry: 1.0,
-            mu: 0.4,
+            k_dry: Param::KDry.default_value(),
+            mu: Param::Mu.default_value(),
             polach: Polach::default(),
         }
     }
@@ -242,11 +246,11 @@ pub struct Fluid {
 impl Default for Fluid {
     fn default() -> Self {
         Self {
-            flow_resistance: 0.012,
-            k_wet: 0.4,
-            psi_b: 0.9995,
-            h_f_max: 20e-6,
-            h_bl: 0.1e-6,
+            flow_resistance: Param::FlowResistance.default_value(),
+            k_wet: Param::KWet.default_value(),
+            psi_b: Param::PsiB.default_value(),
+            h_f_max: Param::HFMax.default_value(),
+            h_bl: Param::HBl.default_value(),
         }
     }
 }
@@ -263,7 +267,10 @@ pub struct GridParams {
 
 impl Default for GridParams {
     fn default() -> Self {
-        Self { nx: 30, ny: 30 }
+        Self {
+            nx: Param::GridNx.default_value() as usize,
+            ny: Param::GridNy.default_value() as usize,
+        }
     }
 }
 
@@ -290,12 +297,12 @@ pub struct SolverParams {
 impl Default for SolverParams {
     fn default() -> Self {
         Self {
-            tolerance: 1e-6,
-            max_iterations: 200,
-            relaxation: 1.0,
+            tolerance: Param::Tolerance.default_value(),
+            max_iterations: Param::MaxIterations.default_value() as usize,
+            relaxation: Param::Relaxation.default_value(),
             heat: true,
-            fluid_tolerance: 1e-10,
-            max_fluid_sweeps: 20_000,
+            fluid_tolerance: Param::FluidTolerance.default_value(),
+            max_fluid_sweeps: Param::MaxFluidSweeps.default_value() as usize,
         }
     }
 }
@@ -351,104 +358,24 @@ impl Params {
         toml::to_string(self).expect("parameter set always serialises")
     }
 
-    /// Checks every value against its physical range; the error names the TOML key.
+    /// Checks every value against its row of the specification ([`Param`]; the curvatures only when no
+    /// semi-axes are prescribed, since they are not used then) and the semi-axes against
+    /// [`spec::SEMI_AXIS_RANGE`]; the error carries the key.
     pub fn validate(&self) -> Result<()> {
-        let g = &self.geometry;
-        match g.semi_axes {
-            Some([a, b]) => {
-                check_range("geometry.semi_axes[0]", a, 1e-6, 1.0, "m")?;
-                check_range("geometry.semi_axes[1]", b, 1e-6, 1.0, "m")?;
-            }
-            None => {
-                check_range("geometry.curvature_x", g.curvature_x, 1e-3, 1e3, "1/m")?;
-                check_range("geometry.curvature_y", g.curvature_y, 1e-3, 1e3, "1/m")?;
+        let prescribed = self.geometry.semi_axes;
+        if let Some([a, b]) = prescribed {
+            for (key, x) in [(Key::SemiAxisA, a), (Key::SemiAxisB, b)] {
+                if !spec::SEMI_AXIS_RANGE.contains(x) {
+                    return Err(key.invalid(x, spec::SEMI_AXIS_RANGE.describe(spec::Unit::Metre)));
+                }
             }
         }
-        let m = &self.material;
-        check_range("material.youngs_modulus", m.youngs_modulus, 1e9, 1e12, "Pa")?;
-        check_range("material.youngs_slope", m.youngs_slope, 0.0, 1e-2, "1/K")?;
-        check_range("material.youngs_floor", m.youngs_floor, 1e-3, 1.0, "")?;
-        check_range("material.poisson", m.poisson, 0.0, 0.5, "")?;
-        check_range("material.yield_stress", m.yield_stress, 1e6, 1e10, "Pa")?;
-        check_range("material.yield_span", m.yield_span, 1.0, 1e5, "K")?;
-        check_range("material.yield_floor", m.yield_floor, 1e-3, 1.0, "")?;
-        check_range(
-            "material.anomaly_amplitude",
-            m.anomaly_amplitude,
-            0.0,
-            10.0,
-            "",
-        )?;
-        check_range(
-            "material.anomaly_temperature",
-            m.anomaly_temperature,
-            0.0,
-            5000.0,
-            "K",
-        )?;
-        check_range("material.anomaly_width", m.anomaly_width, 1e-3, 1e4, "K")?;
-        check_range("material.hardness", m.hardness, 1e7, 1e11, "Pa")?;
-        check_range("material.hardness_span", m.hardness_span, 1.0, 1e5, "K")?;
-        check_range("material.hardness_floor", m.hardness_floor, 1e-3, 1.0, "")?;
-        check_range(
-            "material.reference_temperature",
-            m.reference_temperature,
-            1.0,
-            2000.0,
-            "K",
-        )?;
-        check_positive("material.conductivity", m.conductivity, "W/(m K)")?;
-        check_positive("material.density", m.density, "kg/m^3")?;
-        check_positive("material.specific_heat", m.specific_heat, "J/(kg K)")?;
-        check_range(
-            "material.bulk_temperature",
-            m.bulk_temperature,
-            1.0,
-            2000.0,
-            "K",
-        )?;
-        let r = &self.roughness;
-        check_range("roughness.k_r", r.k_r, 0.0, 1.0, "")?;
-        check_positive("roughness.z_s_smooth", r.z_s_smooth, "m")?;
-        check_range("roughness.z_s_span", r.z_s_span, 0.0, 1e-3, "m")?;
-        check_range("roughness.ratio_smooth", r.ratio_smooth, 1e-7, 1.0, "")?;
-        check_range("roughness.ratio_span", r.ratio_span, 0.0, 1.0, "")?;
-        check_range("roughness.beta", r.beta, 1e-4, 10.0, "")?;
-        let f = &self.friction;
-        check_range("friction.k_dry", f.k_dry, 0.0, 10.0, "")?;
-        check_range("friction.mu", f.mu, 0.0, 10.0, "")?;
-        check_range("friction.polach.mu0", f.polach.mu0, 0.0, 10.0, "")?;
-        check_range("friction.polach.a_ratio", f.polach.a_ratio, 0.0, 10.0, "")?;
-        check_range("friction.polach.b_rate", f.polach.b_rate, 0.0, 1e3, "s/m")?;
-        check_range("friction.polach.k_a", f.polach.k_a, 0.0, 10.0, "")?;
-        check_range("friction.polach.k_s", f.polach.k_s, 0.0, 10.0, "")?;
-        let fl = &self.fluid;
-        check_positive("fluid.flow_resistance", fl.flow_resistance, "Pa s")?;
-        check_range("fluid.k_wet", fl.k_wet, 0.0, 10.0, "")?;
-        check_range("fluid.psi_b", fl.psi_b, 0.5, 1.0 - 1e-15, "")?;
-        check_range("fluid.h_f_max", fl.h_f_max, 0.0, 1e-2, "m")?;
-        check_positive("fluid.h_bl", fl.h_bl, "m")?;
-        let gr = &self.grid;
-        check_range("grid.nx", gr.nx as f64, 4.0, 400.0, "cells")?;
-        check_range("grid.ny", gr.ny as f64, 4.0, 400.0, "cells")?;
-        let s = &self.solver;
-        check_range("solver.tolerance", s.tolerance, 1e-14, 1e-1, "")?;
-        check_range(
-            "solver.max_iterations",
-            s.max_iterations as f64,
-            1.0,
-            1e6,
-            "",
-        )?;
-        check_range("solver.relaxation", s.relaxation, 1e-3, 1.0, "")?;
-        check_range("solver.fluid_tolerance", s.fluid_tolerance, 1e-15, 1e-2, "")?;
-        check_range(
-            "solver.max_fluid_sweeps",
-            s.max_fluid_sweeps as f64,
-            1.0,
-            1e7,
-            "",
-        )?;
+        for p in Param::ALL {
+            let unused = matches!(p, Param::CurvatureX | Param::CurvatureY) && prescribed.is_some();
+            if !unused {
+                p.spec().check(self.get(p))?;
+            }
+        }
         Ok(())
     }
 }
@@ -474,26 +401,23 @@ pub struct OperatingPoint {
 impl Default for OperatingPoint {
     fn default() -> Self {
         Self {
-            creepage_x: 0.0,
-            creepage_y: 0.0,
-            spin: 0.0,
-            normal_force: 100e3,
-            speed: 30.0,
-            wetness: 0.0,
+            creepage_x: Input::CreepageX.default_value(),
+            creepage_y: Input::CreepageY.default_value(),
+            spin: Input::Spin.default_value(),
+            normal_force: Input::NormalForce.default_value(),
+            speed: Input::Speed.default_value(),
+            wetness: Input::Wetness.default_value(),
         }
     }
 }
 
 impl OperatingPoint {
-    /// Checks the point: finite creepages (|ξ|, |η| < 2, since surface speeds V·(1 ± ξ/2) must stay
-    /// positive), positive load and speed, wetness in [0, 1].
+    /// Checks the point against the rows of [`Input`]: finite creepages (|ξ|, |η| < 2, since surface
+    /// speeds V·(1 ± ξ/2) must stay positive), positive load and speed, wetness in [0, 1].
     pub fn validate(&self) -> Result<()> {
-        check_range("creepage-x", self.creepage_x, -1.9, 1.9, "")?;
-        check_range("creepage-y", self.creepage_y, -1.9, 1.9, "")?;
-        check_range("spin", self.spin, -1e4, 1e4, "1/m")?;
-        check_range("normal-force", self.normal_force, 1e-3, 1e8, "N")?;
-        check_range("speed", self.speed, 1e-6, 1e3, "m/s")?;
-        check_range("wetness", self.wetness, 0.0, 1.0, "")?;
+        for i in Input::ALL {
+            i.spec().check(self.get(i))?;
+        }
         Ok(())
     }
 }
@@ -508,6 +432,101 @@ mod tests {
         p.validate().unwrap();
         let back = Params::from_toml_str(&p.to_toml_string()).unwrap();
         assert_eq!(p, back);
+    }
+
+    /// A valid value of a row other than its default (whole for integer rows).
+    fn other_value(s: &spec::Spec) -> f64 {
+        use spec::Bound;
+        let (lo, hi) = match (s.range.lo, s.range.hi) {
+            (Bound::Closed(lo) | Bound::Open(lo), Bound::Closed(hi) | Bound::Open(hi)) => (lo, hi),
+            _ => (s.default, 3.0 * s.default),
+        };
+        let x = lo
+            + (hi - lo)
+                * if s.default == 0.5 * (lo + hi) {
+                    0.25
+                } else {
+                    0.5
+                };
+        let x = if s.integer { x.round() } else { x };
+        assert!(s.range.contains(x) && x != s.default, "{}", s.toml);
+        x
+    }
+
+    /// The value at a dotted key of a TOML document.
+    fn at_key(doc: &str, key: &str) -> f64 {
+        let table: toml::Table = toml::from_str(doc).unwrap();
+        let mut v = &toml::Value::Table(table);
+        for part in key.split('.') {
+            v = v
+                .get(part)
+                .unwrap_or_else(|| panic!("no key {key} in\n{doc}"));
+        }
+        v.as_float()
+            .or_else(|| v.as_integer().map(|i| i as f64))
+            .unwrap()
+    }
+
+    #[test]
+    fn every_row_is_its_field_default_toml_key_and_validation() {
+        let defaults = Params::default();
+        for p in Param::ALL {
+            let s = p.spec();
+            assert_eq!(defaults.get(p), s.default, "{}", s.toml);
+            let x = other_value(s);
+            let mut q = Params::default();
+            q.set(p, x);
+            assert_eq!(q.get(p), x, "{}", s.toml);
+            let text = q.to_toml_string();
+            assert_eq!(at_key(&text, s.toml), x, "{}", s.toml);
+            assert_eq!(Params::from_toml_str(&text).unwrap(), q);
+            q.set(p, f64::NAN);
+            match q.validate() {
+                Err(Error::Invalid { key, .. }) => assert_eq!(key, Key::Param(p)),
+                other => panic!("{}: {other:?}", s.toml),
+            }
+        }
+        let defaults = OperatingPoint::default();
+        for i in Input::ALL {
+            let s = i.spec();
+            assert_eq!(defaults.get(i), s.default, "{}", s.toml);
+            let x = other_value(s);
+            let mut q = OperatingPoint::default();
+            q.set(i, x);
+            let text = toml::to_string(&q).unwrap();
+            assert_eq!(at_key(&text, s.toml), x, "{}", s.toml);
+            assert_eq!(toml::from_str::<OperatingPoint>(&text).unwrap(), q);
+            q.set(i, f64::INFINITY);
+            match q.validate() {
+                Err(Error::Invalid { key, .. }) => assert_eq!(key, Key::Input(i)),
+                other => panic!("{}: {other:?}", s.toml),
+            }
+        }
+    }
+
+    #[test]
+    fn curvatures_are_not_checked_with_prescribed_semi_axes_which_are() {
+        let mut p = Params::default();
+        p.geometry.curvature_x = 0.0;
+        assert!(p.validate().is_err());
+        p.geometry.semi_axes = Some([5e-3, 2.0]);
+        let e = p.validate().unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::Invalid {
+                    key: Key::SemiAxisB,
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        assert_eq!(
+            e.to_string(),
+            "invalid value for geometry.semi_axes[1]: 2 (allowed: finite, 0.000001 ..= 1 m)"
+        );
+        p.geometry.semi_axes = Some([5e-3, 1e-2]);
+        p.validate().unwrap();
     }
 
     #[test]
