@@ -12,6 +12,7 @@ pub mod fluid;
 pub mod friction;
 pub mod materials;
 pub mod microcontact;
+pub mod model;
 pub mod params;
 pub mod plot;
 pub mod quadrature;
@@ -22,5 +23,6 @@ pub mod tangential;
 pub mod thermal;
 
 pub use error::{Error, Result};
+pub use model::Model;
 pub use params::{FrictionLaw, OperatingPoint, Params};
 pub use solver::{Solution, solve, solve_from};

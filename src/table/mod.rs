@@ -690,16 +690,19 @@ pub(crate) fn tiny_axes() -> Axes {
     ])
 }
 
-/// Error for an operating point the table cannot evaluate (kept for callers that want a typed reason).
+/// The error of evaluating `table` for `params` if it was built for other parameters (None if it was
+/// built for them).
 pub fn not_matching(table: &Table, params: &Params) -> Option<Error> {
-    (!table.matches(params)).then(|| Error::Table {
+    (!table.matches(params)).then(|| other_parameters(table, params))
+}
+
+/// The error of `table` asked to evaluate for `params`, which are not those it was built for.
+pub fn other_parameters(table: &Table, params: &Params) -> Error {
+    Error::TableParameters {
         path: table.location(),
-        reason: format!(
-            "was built for other parameters (fingerprint {}, these give {})",
-            table.sidecar.fingerprint,
-            file::fingerprint(params)
-        ),
-    })
+        built: table.sidecar.fingerprint.clone(),
+        given: file::fingerprint(params),
+    }
 }
 
 #[cfg(test)]
