@@ -106,8 +106,8 @@ pub fn run(a: &CurveArgs) -> Result<()> {
         .zip(&values)
         .map(|(s, &v)| {
             let s = s.context("solving the operating point")?;
-            warn_unconverged(&s);
-            let mut j = solution_json(&params, &s);
+            warn_unconverged(&s.report);
+            let mut j = solution_json(&params, &s.global, &s.report);
             j.as_object_mut()
                 .expect("object")
                 .insert(a.over.name().into(), v.into());

@@ -9,6 +9,7 @@ mod table;
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
+use wheelrail::solver::{GlobalResults, SolverReport};
 use wheelrail::{FrictionLaw, OperatingPoint, Params};
 
 /// Wheel–rail friction after Tomberger et al. (Wear 271, 2011): exact coupled solver.
@@ -201,17 +202,39 @@ impl ModelArgs {
         Ok(p)
     }
 
-    /// The operating point, validated.
-    pub fn point(&self) -> Result<OperatingPoint> {
-        let pt = OperatingPoint {
+    /// The operating point as given.
+    fn given(&self) -> OperatingPoint {
+        OperatingPoint {
             creepage_x: self.creepage_x,
             creepage_y: self.creepage_y,
             spin: self.spin,
             normal_force: self.normal_force,
             speed: self.speed,
             wetness: self.wetness,
-        };
+        }
+    }
+
+    /// The operating point, validated.
+    pub fn point(&self) -> Result<OperatingPoint> {
+        let pt = self.given();
         pt.validate()?;
+        Ok(pt)
+    }
+
+    /// The operating point for the evaluation policy ([`wheelrail::model::Evaluator`]), in the frame of the
+    /// flags: the rolling speed may be negative (rolling backwards) or zero, a normal force of at most
+    /// 1 mN lifts the wheel. A negative load and a wetness outside [0, 1] are refused here (the policy
+    /// would lift the wheel and clamp the wetness); the policy checks the rest of a point it evaluates.
+    pub fn input(&self) -> Result<OperatingPoint> {
+        let pt = self.given();
+        if !(pt.normal_force >= 0.0) {
+            bail!(wheelrail::Error::out_of_range(
+                "normal-force",
+                pt.normal_force,
+                "finite, >= 0 N (at most 1e-3 N: a lifted wheel)"
+            ));
+        }
+        wheelrail::error::check_range("wetness", pt.wetness, 0.0, 1.0, "")?;
         Ok(pt)
     }
 }
@@ -230,7 +253,11 @@ pub fn run(cli: Cli) -> Result<()> {
 /// Exit code of an error: 2 for invalid input (values, parameter files), 1 otherwise.
 pub fn exit_code(e: &anyhow::Error) -> u8 {
     match e.downcast_ref::<wheelrail::Error>() {
-        Some(wheelrail::Error::OutOfRange { .. } | wheelrail::Error::ParameterFile { .. }) => 2,
+        Some(
+            wheelrail::Error::OutOfRange { .. }
+            | wheelrail::Error::ParameterFile { .. }
+            | wheelrail::Error::NoTable { .. },
+        ) => 2,
         _ => 1,
     }
 }
@@ -238,24 +265,28 @@ pub fn exit_code(e: &anyhow::Error) -> u8 {
 /// Solves and warns on stderr when the coupled iteration did not converge.
 pub fn solve_reporting(params: &Params, pt: &OperatingPoint) -> Result<wheelrail::Solution> {
     let s = wheelrail::solve(params, pt).context("solving the operating point")?;
-    warn_unconverged(&s);
+    warn_unconverged(&s.report);
     Ok(s)
 }
 
-/// Warns on stderr when the coupled iteration of a solution did not converge.
-pub fn warn_unconverged(s: &wheelrail::Solution) {
-    if !s.report.converged {
+/// Warns on stderr when the coupled iteration of a solve did not converge.
+pub fn warn_unconverged(report: &SolverReport) {
+    if !report.converged {
         eprintln!(
             "warning: not converged after {} iterations (residual {:.3e})",
-            s.report.iterations, s.report.residual
+            report.iterations, report.residual
         );
     }
 }
 
 /// The JSON object of a solution: global results, convergence report and the friction law.
-pub fn solution_json(params: &Params, s: &wheelrail::Solution) -> serde_json::Value {
-    let mut v = serde_json::to_value(&s.global).expect("global results serialise");
-    let r = serde_json::to_value(s.report).expect("report serialises");
+pub fn solution_json(
+    params: &Params,
+    global: &GlobalResults,
+    report: &SolverReport,
+) -> serde_json::Value {
+    let mut v = serde_json::to_value(global).expect("global results serialise");
+    let r = serde_json::to_value(report).expect("report serialises");
     let obj = v.as_object_mut().expect("global results are an object");
     if let serde_json::Value::Object(rm) = r {
         obj.extend(rm);

@@ -26,8 +26,6 @@ pub(super) struct Solved {
     /// ∂point/∂input per coordinate (ξ, η, φ, F_N, V, w), a diagonal: the turn for ξ and η, the sign of V
     /// unless raised to the minimum speed, 0 for a clamped wetness.
     chain: [f64; DIMS],
-    /// The caller's creepages (ξ, η), for checks that name the values the caller gave.
-    creepages: [f64; 2],
 }
 
 impl Solved {
@@ -44,7 +42,12 @@ impl Solved {
                 creepage_y: turn * input.creepage_y,
                 spin: input.spin,
                 normal_force: input.normal_force,
-                speed: speed.abs().max(minimum_speed),
+                // not f64::max, which would turn a NaN speed into the minimum speed
+                speed: if speed.abs() < minimum_speed {
+                    minimum_speed
+                } else {
+                    speed.abs()
+                },
                 wetness,
             },
             turn,
@@ -60,7 +63,6 @@ impl Solved {
                 },
                 if wetness == input.wetness { 1.0 } else { 0.0 },
             ],
-            creepages: [input.creepage_x, input.creepage_y],
         }
     }
 
@@ -69,16 +71,17 @@ impl Solved {
         self.chain[5] == 0.0
     }
 
-    /// Checks the solved point with the caller's creepages, so that an error names the values the caller
-    /// gave (the allowed creepage ranges are symmetric: the turned point passes exactly when this does).
-    /// Forwards there is nothing to turn and the evaluation's own check suffices.
-    pub fn check(&self) -> Result<()> {
+    /// Checks the solved point with the creepages of `input` (the caller's point it was made of), so that
+    /// an error names the values the caller gave (the allowed creepage ranges are symmetric: the turned
+    /// point passes exactly when this does). Forwards there is nothing to turn and the evaluation's own
+    /// check suffices.
+    pub fn check(&self, input: &OperatingPoint) -> Result<()> {
         if self.turn > 0.0 {
             return Ok(());
         }
         OperatingPoint {
-            creepage_x: self.creepages[0],
-            creepage_y: self.creepages[1],
+            creepage_x: input.creepage_x,
+            creepage_y: input.creepage_y,
             ..self.point
         }
         .validate()

@@ -275,7 +275,7 @@ impl Evaluator {
             });
         }
         let (route, notice) = self.route(&solved.point)?;
-        solved.check()?;
+        solved.check(input)?;
         notices.route = notice;
         Ok(Some((solved, route, notices)))
     }

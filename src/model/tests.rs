@@ -329,6 +329,18 @@ fn errors_name_the_values_the_caller_gave() {
             .unwrap_err();
         assert!(err.to_string().contains("creepage-x: 2.5 "), "{err}");
     }
+    // a NaN speed is not raised to the minimum speed
+    let err = e
+        .evaluate(
+            &OperatingPoint {
+                speed: f64::NAN,
+                ..inside()
+            },
+            None,
+            &mut None,
+        )
+        .unwrap_err();
+    assert!(err.to_string().contains("speed: NaN"), "{err}");
 }
 
 #[test]
