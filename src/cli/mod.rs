@@ -227,7 +227,7 @@ impl ModelArgs {
     /// would lift the wheel and clamp the wetness); the policy checks the rest of a point it evaluates.
     pub fn input(&self) -> Result<OperatingPoint> {
         let pt = self.given();
-        if !(pt.normal_force >= 0.0) {
+        if pt.normal_force.is_nan() || pt.normal_force < 0.0 {
             bail!(wheelrail::Error::out_of_range(
                 "normal-force",
                 pt.normal_force,

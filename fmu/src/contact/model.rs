@@ -302,8 +302,6 @@ impl WheelRailModel {
         Ok(p)
     }
 
-    /// The operating point of the current inputs in the solved frame (None: the wheel is lifted). Clamps
-
     /// Evaluates the outputs of the current values: (results in the FMU's frame, evaluation_mode, status).
     /// `tolerance` tightens the exact solver's tolerance (for finite differences). With `warm_start` on, an
     /// exact solve starts from the last `calculate`'s state; `keep` makes its own state the next start.
