@@ -53,6 +53,24 @@ pub enum Error {
         /// What went wrong.
         reason: String,
     },
+    /// A lookup table asked to evaluate for parameters other than those it was built for.
+    #[error(
+        "table {path}: was built for other parameters (fingerprint {built}, these give {given})"
+    )]
+    TableParameters {
+        /// The table directory ("<memory>" for a table built in memory).
+        path: String,
+        /// Fingerprint of the parameters the table was built for.
+        built: String,
+        /// Fingerprint of the parameters asked for.
+        given: String,
+    },
+    /// An evaluation mode that evaluates by lookup table, given none.
+    #[error("evaluation mode {mode} needs a lookup table")]
+    NoTable {
+        /// The mode.
+        mode: crate::model::Mode,
+    },
 }
 
 /// The submodel or procedure in which a numerical failure happened ([`Error::Numerical`]); its text

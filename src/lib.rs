@@ -4,6 +4,11 @@
 //! Williamson/Zhao–Maietta–Chang microcontact, temperature-dependent failure stress, FASTSIM with locally
 //! varying adhesion limit, moving-source contact temperature and an interfacial fluid, solved as one coupled
 //! fixed point. SI units throughout; temperatures in kelvin. See `README.md` for conventions.
+//!
+//! Entry points: [`Model`] (a validated parameter set: `solve`, `solve_from`, `sweep`) and
+//! [`model::Evaluator`], the evaluation policy that the FMU and the command line share (lookup table or
+//! exact solver, lifted wheel, rolling backwards, standstill); `model` describes the data path of one
+//! evaluation.
 
 pub mod baselines;
 pub mod contact;
@@ -12,6 +17,7 @@ pub mod fluid;
 pub mod friction;
 pub mod materials;
 pub mod microcontact;
+pub mod model;
 pub mod params;
 pub mod quadrature;
 pub mod solver;
@@ -20,5 +26,6 @@ pub mod tangential;
 pub mod thermal;
 
 pub use error::{Error, Result};
+pub use model::Model;
 pub use params::{FrictionLaw, OperatingPoint, Params};
 pub use solver::{Solution, solve, solve_from};

@@ -267,3 +267,125 @@ fn point_json_says_what_limited_an_unconverged_solve_and_null_for_what_a_law_doe
         assert!(v[k].is_number(), "{k} = {} for the tomberger law", v[k]);
     }
 }
+
+/// A small table for the default parameters on a 6 × 6 grid (`wheelrail::table::small_axes`: ξ, η ≤ 1 %,
+/// |φ| ≤ 0.5 1/m, F_N 80–120 kN, V 20–40 m/s, w ≤ 0.2) and its parameter file, built once.
+fn small_table() -> &'static (std::path::PathBuf, std::path::PathBuf) {
+    static TABLE: std::sync::OnceLock<(std::path::PathBuf, std::path::PathBuf)> =
+        std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
+        let text = "[grid]\nnx = 6\nny = 6\n";
+        let params = wheelrail::Params::from_toml_str(text).unwrap();
+        let file = tmp("small-table.toml");
+        std::fs::write(&file, text).unwrap();
+        let dir = tmp("small-table");
+        let mut files =
+            wheelrail::table::build(&params, &wheelrail::table::small_axes(), None, &|| ())
+                .unwrap();
+        files.write(&dir).unwrap();
+        (dir, file)
+    })
+}
+
+/// `point --json` with the small table's parameters and `extra` flags, by default at ξ = 0.3 %,
+/// η = 0.1 %, φ = 0.2 1/m, w = 0.1: (JSON, stderr).
+fn point_with(extra: &[&str]) -> (serde_json::Value, String) {
+    let (_, params) = small_table();
+    let mut args = vec!["point", "--json", "--params", params.to_str().unwrap()];
+    for (flag, value) in [
+        ("--creepage-x", "0.003"),
+        ("--creepage-y", "0.001"),
+        ("--spin", "0.2"),
+        ("--wetness", "0.1"),
+    ] {
+        if !extra.contains(&flag) {
+            args.extend([flag, value]);
+        }
+    }
+    args.extend_from_slice(extra);
+    let o = wheelrail(&args);
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    assert!(o.status.success(), "{extra:?}: {err}");
+    (serde_json::from_slice(&o.stdout).unwrap(), err)
+}
+
+#[test]
+fn point_mode_auto_uses_the_table_where_usable_and_else_the_exact_solver() {
+    let dir = small_table().0.to_str().unwrap();
+    let (table, err) = point_with(&["--table", dir]);
+    assert_eq!(table["evaluation"], "table");
+    assert!(err.is_empty(), "{err}");
+    let (auto, err) = point_with(&["--mode", "auto", "--table", dir]);
+    assert_eq!(auto, table);
+    assert!(err.is_empty(), "{err}");
+    // outside the table's speed range: the exact solver, with a warning
+    let (auto, err) = point_with(&["--mode", "auto", "--table", dir, "--speed", "60"]);
+    let (exact, _) = point_with(&["--mode", "exact", "--speed", "60"]);
+    assert_eq!(auto["evaluation"], "exact");
+    assert_eq!(auto, exact);
+    assert!(
+        err.contains("outside the table's ranges") && err.contains("exact solver"),
+        "{err}"
+    );
+    // parameters other than the table's: the exact solver, with a warning naming the reason
+    let (auto, err) = point_with(&["--mode", "auto", "--table", dir, "--roughness", "0.6"]);
+    assert_eq!(auto["evaluation"], "exact");
+    assert!(err.contains("other parameters"), "{err}");
+    assert_ne!(auto["force_x"], table["force_x"]);
+}
+
+#[test]
+fn point_mode_exact_is_the_default_without_a_table_and_table_modes_need_one() {
+    let (default, _) = point_with(&[]);
+    assert_eq!(default["evaluation"], "exact");
+    assert!(default.get("iterations").is_some() && default.get("in_range").is_none());
+    let dir = small_table().0.to_str().unwrap();
+    assert_eq!(point_with(&["--mode", "exact"]).0, default);
+    assert_eq!(point_with(&["--mode", "exact", "--table", dir]).0, default);
+    let (table, _) = point_with(&["--mode", "table", "--table", dir]);
+    assert_eq!(table["evaluation"], "table");
+    assert_eq!(table["in_range"], true);
+    for mode in ["auto", "table"] {
+        let o = wheelrail(&["point", "--mode", mode]);
+        assert_eq!(o.status.code(), Some(2), "{mode}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains("needs a lookup table") && err.contains("--table DIR"),
+            "{err}"
+        );
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
+}
+
+#[test]
+fn point_rolls_backwards_in_the_turned_frame_and_lifts_the_wheel() {
+    let dir = small_table().0.to_str().unwrap();
+    for mode in ["exact", "auto"] {
+        let (back, _) = point_with(&["--mode", mode, "--table", dir, "--speed", "-30"]);
+        let (turned, _) = point_with(&[
+            "--mode",
+            mode,
+            "--table",
+            dir,
+            "--speed",
+            "30",
+            "--creepage-x",
+            "-0.003",
+            "--creepage-y",
+            "-0.001",
+        ]);
+        assert_eq!(back["evaluation"], turned["evaluation"]);
+        let f = |v: &serde_json::Value, k: &str| v[k].as_f64().unwrap();
+        assert_eq!(f(&back, "force_x"), -f(&turned, "force_x"), "{mode}");
+        assert_eq!(f(&back, "force_y"), -f(&turned, "force_y"), "{mode}");
+        assert_eq!(f(&back, "spin_moment"), f(&turned, "spin_moment"), "{mode}");
+    }
+    let (lifted, err) = point_with(&["--normal-force", "0"]);
+    assert!(err.is_empty(), "{err}");
+    assert_eq!(lifted["evaluation"], "lifted");
+    for k in ["force_x", "force_y", "spin_moment", "traction_coefficient"] {
+        assert_eq!(lifted[k].as_f64(), Some(0.0), "{k}");
+    }
+    assert_eq!(lifted["max_temperature"].as_f64(), Some(293.15));
+    assert_eq!(lifted["converged"], true);
+}

@@ -24,7 +24,7 @@ pub use file::{MomentScale, OUTPUT_INFO, OUTPUTS, ShardRecord, Sidecar, TableFil
 
 use crate::error::{Error, Result};
 use crate::params::{OperatingPoint, Params};
-use crate::solver::Solution;
+use crate::solver::{GlobalResults, Solution, SolverReport};
 use axes::{ETA, FORCE, PHI, XI};
 use interp::{AxisInterp, LinearStencil};
 use std::collections::HashMap;
@@ -58,7 +58,11 @@ impl TableOutput {
     /// A solution without a tabulated quantity (of a friction law that does not model it: only the
     /// Tomberger law models them all) is an error naming it.
     pub fn from_solution(s: &Solution) -> Result<TableOutput> {
-        let g = &s.global;
+        Self::from_results(&s.global, &s.report)
+    }
+
+    /// [`TableOutput::from_solution`] of a solution's global results and report.
+    pub fn from_results(g: &GlobalResults, report: &SolverReport) -> Result<TableOutput> {
         let modelled = |name: &str, v: Option<f64>| {
             v.ok_or_else(|| Error::Table {
                 path: "<exact solution>".into(),
@@ -75,7 +79,7 @@ impl TableOutput {
             max_temperature: modelled("maximum temperature", g.max_temperature)?,
             fluid_load_fraction: modelled("fluid load fraction", g.fluid_load_fraction)?,
             in_range: true,
-            converged: s.report.converged,
+            converged: report.converged,
         })
     }
 }
@@ -728,16 +732,19 @@ pub(crate) fn tiny_axes() -> Axes {
     ])
 }
 
-/// Error for an operating point the table cannot evaluate (kept for callers that want a typed reason).
+/// The error of evaluating `table` for `params` if it was built for other parameters (None if it was
+/// built for them).
 pub fn not_matching(table: &Table, params: &Params) -> Option<Error> {
-    (!table.matches(params)).then(|| Error::Table {
+    (!table.matches(params)).then(|| other_parameters(table, params))
+}
+
+/// The error of `table` asked to evaluate for `params`, which are not those it was built for.
+pub fn other_parameters(table: &Table, params: &Params) -> Error {
+    Error::TableParameters {
         path: table.location(),
-        reason: format!(
-            "was built for other parameters (fingerprint {}, these give {})",
-            table.sidecar.fingerprint,
-            file::fingerprint(params)
-        ),
-    })
+        built: table.sidecar.fingerprint.clone(),
+        given: file::fingerprint(params),
+    }
 }
 
 #[cfg(test)]

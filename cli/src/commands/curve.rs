@@ -5,8 +5,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::PathBuf;
-use wheelrail::OperatingPoint;
-use wheelrail::solver::solve_sweep;
+use wheelrail::{Model, OperatingPoint};
 use wheelrail_cli::plot::{Chart, Series, line_chart};
 
 /// Which creepage is swept.
@@ -69,7 +68,8 @@ pub struct CurveArgs {
 
 /// Runs `wheelrail curve`.
 pub fn run(a: &CurveArgs) -> Result<()> {
-    let params = a.model.params()?;
+    let model = Model::new(a.model.params()?)?;
+    let params = model.params();
     let base = a.model.point()?;
     if a.points < 2 || a.points > 10_000 {
         bail!(wheelrail::Error::out_of_range(
@@ -101,13 +101,14 @@ pub fn run(a: &CurveArgs) -> Result<()> {
             Ok(pt)
         })
         .collect::<Result<_>>()?;
-    let rows: Vec<Result<serde_json::Value>> = solve_sweep(&params, &points)
+    let rows: Vec<Result<serde_json::Value>> = model
+        .sweep(&points)
         .into_iter()
         .zip(&values)
         .map(|(s, &v)| {
             let s = s.context("solving the operating point")?;
-            warn_unconverged(&s);
-            let mut j = solution_json(&params, &s);
+            warn_unconverged(&s.report);
+            let mut j = solution_json(params, &s.global, &s.report);
             j.as_object_mut()
                 .expect("object")
                 .insert(a.over.name().into(), v.into());

@@ -12,6 +12,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 use wheelrail::params::spec::Spec;
 use wheelrail::params::{Input, Key, Param};
+use wheelrail::solver::{GlobalResults, SolverReport};
 use wheelrail::{FrictionLaw, OperatingPoint, Params};
 
 /// Wheel–rail friction after Tomberger et al. (Wear 271, 2011): exact coupled solver.
@@ -262,11 +263,33 @@ impl ModelArgs {
 
     /// The operating point: defaults, then the flags; validated.
     pub fn point(&self) -> Result<OperatingPoint> {
+        let pt = self.given();
+        pt.validate()?;
+        Ok(pt)
+    }
+
+    /// The operating point as given by the flags (defaults for those not given), not validated.
+    fn given(&self) -> OperatingPoint {
         let mut pt = OperatingPoint::default();
         for &(key, x) in &self.values.inputs {
             pt.set(key, x);
         }
-        pt.validate()?;
+        pt
+    }
+
+    /// The operating point for the evaluation policy ([`wheelrail::model::Evaluator`]), in the frame of the
+    /// flags: the rolling speed may be negative (rolling backwards) or zero, a normal force of at most
+    /// 1 mN lifts the wheel. A negative load and a wetness outside [0, 1] are refused here (the policy
+    /// would lift the wheel and clamp the wetness); the policy checks the rest of a point it evaluates.
+    pub fn input(&self) -> Result<OperatingPoint> {
+        let pt = self.given();
+        if pt.normal_force.is_nan() || pt.normal_force < 0.0 {
+            bail!(Key::Input(Input::NormalForce).invalid(
+                pt.normal_force,
+                "finite, >= 0 N (at most 1e-3 N: a lifted wheel)".into()
+            ));
+        }
+        Input::Wetness.spec().check(pt.wetness)?;
         Ok(pt)
     }
 }
@@ -289,7 +312,8 @@ pub fn exit_code(e: &anyhow::Error) -> u8 {
         Some(
             wheelrail::Error::OutOfRange { .. }
             | wheelrail::Error::Invalid { .. }
-            | wheelrail::Error::ParameterFile { .. },
+            | wheelrail::Error::ParameterFile { .. }
+            | wheelrail::Error::NoTable { .. },
         ) => 2,
         _ => 1,
     }
@@ -298,25 +322,29 @@ pub fn exit_code(e: &anyhow::Error) -> u8 {
 /// Solves and warns on stderr when the coupled iteration did not converge.
 pub fn solve_reporting(params: &Params, pt: &OperatingPoint) -> Result<wheelrail::Solution> {
     let s = wheelrail::solve(params, pt).context("solving the operating point")?;
-    warn_unconverged(&s);
+    warn_unconverged(&s.report);
     Ok(s)
 }
 
-/// Warns on stderr when the coupled iteration of a solution did not converge, naming the solver that
+/// Warns on stderr when the coupled iteration of a solve did not converge, naming the solver that
 /// limited it.
-pub fn warn_unconverged(s: &wheelrail::Solution) {
-    if let Some(limiter) = s.report.termination.limited_by() {
+pub fn warn_unconverged(report: &SolverReport) {
+    if let Some(limiter) = report.termination.limited_by() {
         eprintln!(
             "warning: not converged after {} iterations (residual {:.3e}, limited by the {limiter} solver)",
-            s.report.iterations, s.report.residual
+            report.iterations, report.residual
         );
     }
 }
 
 /// The JSON object of a solution: global results, convergence report and the friction law.
-pub fn solution_json(params: &Params, s: &wheelrail::Solution) -> serde_json::Value {
-    let mut v = serde_json::to_value(&s.global).expect("global results serialise");
-    let r = serde_json::to_value(s.report).expect("report serialises");
+pub fn solution_json(
+    params: &Params,
+    global: &GlobalResults,
+    report: &SolverReport,
+) -> serde_json::Value {
+    let mut v = serde_json::to_value(global).expect("global results serialise");
+    let r = serde_json::to_value(report).expect("report serialises");
     let obj = v.as_object_mut().expect("global results are an object");
     if let serde_json::Value::Object(rm) = r {
         obj.extend(rm);

@@ -1,14 +1,14 @@
 //! `wheelrail table`: build, merge, verify and describe lookup tables (issue 5), and the JSON of a point
-//! evaluated by table (`wheelrail point --table DIR`).
+//! evaluated by table (`wheelrail point --table DIR`, [`point_json`]).
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use wheelrail::table::file::{ShardRecord, TableFiles};
 use wheelrail::table::verify::{self, TARGET_MAX, TARGET_P99, VerifyReport};
-use wheelrail::table::{self, Axes, DIMENSIONS, Table};
+use wheelrail::table::{self, Axes, DIMENSIONS, Table, TableOutput};
 use wheelrail::{OperatingPoint, Params};
 
 /// Arguments of `wheelrail table`.
@@ -326,26 +326,13 @@ fn info(dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// `wheelrail point --table DIR`: evaluates by table; the JSON keys are those of the exact point that a
-/// table provides, plus `in_range` and `"evaluation": "table"`.
-pub fn point_json(dir: &Path, params: &Params, pt: &OperatingPoint) -> Result<serde_json::Value> {
-    let t = Table::load(dir)?;
-    if let Some(e) = table::not_matching(&t, params) {
-        return Err(e).context(
-            "give the parameter file and flags the table was built with, or drop --table",
-        );
-    }
-    let o = t.evaluate(pt)?;
-    if !o.in_range {
-        eprintln!(
-            "warning: the point lies outside the table's ranges; each coordinate was clamped to its range"
-        );
-    }
-    if !o.converged {
-        eprintln!(
-            "warning: the interpolation used table points whose exact solution did not converge"
-        );
-    }
+/// The JSON object of a point evaluated by table (`wheelrail point --table DIR`): the keys of the exact
+/// point that a table provides (with the Hertz contact of the parameters), plus `in_range`.
+pub fn point_json(
+    params: &Params,
+    pt: &OperatingPoint,
+    o: &TableOutput,
+) -> Result<serde_json::Value> {
     let h = wheelrail::solver::normal_contact(params, pt.normal_force)?;
     Ok(serde_json::json!({
         "force_x": o.force_x,
@@ -361,6 +348,5 @@ pub fn point_json(dir: &Path, params: &Params, pt: &OperatingPoint) -> Result<se
         "converged": o.converged,
         "in_range": o.in_range,
         "friction_law": params.friction.law.to_string(),
-        "evaluation": "table",
     }))
 }

@@ -1,6 +1,7 @@
-//! WheelRailFriction: the wheel–rail contact model as an FMU (variable table, mapping, evaluator).
+//! WheelRailFriction: the wheel–rail contact model as an FMU (variable table, translation to and from the
+//! library's evaluation policy, the `mode` parameter and its lookup table).
 
-pub mod evaluator;
+pub mod mode;
 pub mod model;
 pub mod variables;
 

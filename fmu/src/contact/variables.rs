@@ -90,7 +90,7 @@ pub const MINIMUM_SPEED: usize = 25;
 pub const WARM_START: usize = 26;
 
 /// Default of `minimum_speed`: below this |V| the contact is solved at this speed [m/s].
-pub const DEFAULT_MINIMUM_SPEED: f64 = 0.01;
+pub const DEFAULT_MINIMUM_SPEED: f64 = wheelrail::model::DEFAULT_MINIMUM_SPEED;
 /// Default of `grid_size`: the library's default `grid.nx` (docs/model.md §2 project default, 30 × 30
 /// cells).
 pub const DEFAULT_GRID_SIZE: i32 = Param::GridNx.default_value() as i32;

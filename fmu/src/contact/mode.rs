@@ -1,0 +1,92 @@
+//! The `mode` and `table_file` parameters: the library's evaluation mode ([`wheelrail::model::Mode`]) and
+//! the lookup table they select, by default the one bundled in the FMU's resources.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use wheelrail::model::Mode;
+use wheelrail::table::Table;
+
+/// The evaluation mode of a `mode` parameter value: 0 auto, 1 table only, 2 exact only.
+pub fn mode_of(code: i32) -> Result<Mode, String> {
+    match code {
+        0 => Ok(Mode::Auto),
+        1 => Ok(Mode::TableOnly),
+        2 => Ok(Mode::ExactOnly),
+        _ => Err(format!(
+            "invalid value for mode: {code} (allowed: 0 auto, 1 table only, 2 exact only)"
+        )),
+    }
+}
+
+/// Where the lookup table is: `table_file` if given, else `resources/table` of the unpacked FMU.
+pub fn table_location(table_file: &str, resources: Option<&Path>) -> Option<PathBuf> {
+    if table_file.is_empty() {
+        resources.map(|r| r.join("table"))
+    } else {
+        Some(PathBuf::from(table_file))
+    }
+}
+
+/// The table of `mode` at a location (loaded once per process and directory, shared read-only between
+/// instances), and the warning to log once if mode auto goes without one (then every point is solved
+/// exactly). Mode exact only needs none; in mode table only, no usable table is an error.
+pub fn resolve(
+    mode: Mode,
+    location: Option<&Path>,
+) -> Result<(Option<Arc<Table>>, Option<String>), String> {
+    if mode == Mode::ExactOnly {
+        return Ok((None, None));
+    }
+    let loaded = match location {
+        None => Err("table_file is empty and the FMU's resources directory is unknown".into()),
+        Some(p) if !p.exists() => Err(format!("there is no lookup table at {}", p.display())),
+        Some(p) => {
+            Table::load_shared(p).map_err(|e| format!("the lookup table cannot be used: {e}"))
+        }
+    };
+    match (mode, loaded) {
+        (_, Ok(table)) => Ok((Some(table), None)),
+        (Mode::TableOnly, Err(why)) => Err(format!(
+            "mode 1 (table only) needs a usable lookup table, but {why}"
+        )),
+        (_, Err(why)) => Ok((None, Some(format!("{why}; using the exact solver")))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn modes_and_table_resolution() {
+        assert_eq!(mode_of(1), Ok(Mode::TableOnly));
+        assert!(mode_of(3).unwrap_err().contains("mode: 3"));
+        let res = Path::new("/nonexistent/resources");
+        let loc = table_location("", Some(res)).unwrap();
+        assert_eq!(loc, res.join("table"));
+        assert_eq!(
+            table_location("/x/t", Some(res)).unwrap(),
+            PathBuf::from("/x/t")
+        );
+        assert_eq!(table_location("", None), None);
+        let (table, warning) = resolve(Mode::ExactOnly, None).unwrap();
+        assert!(table.is_none() && warning.is_none());
+        let (table, warning) = resolve(Mode::Auto, Some(&loc)).unwrap();
+        assert!(table.is_none());
+        assert!(
+            warning
+                .unwrap()
+                .contains("no lookup table at /nonexistent/resources/table")
+        );
+        let err = resolve(Mode::TableOnly, Some(&loc)).unwrap_err();
+        assert!(
+            err.contains("table only") && err.contains("/nonexistent"),
+            "{err}"
+        );
+        assert!(
+            resolve(Mode::TableOnly, None)
+                .unwrap_err()
+                .contains("resources directory is unknown")
+        );
+    }
+}

@@ -1,0 +1,77 @@
+//! The model as its users see it: a validated parameter set ([`Model`]) that solves operating points, and
+//! the evaluation policy ([`Evaluator`]) that the FMU and the command line share.
+//!
+//! The data path of one evaluation (one FMU step, one `wheelrail point`):
+//!
+//! 1. The caller translates its own values (FMU variables, CLI flags) into an [`OperatingPoint`] in the
+//!    multibody (MBS) frame: signed rolling speed, any normal force, any wetness.
+//! 2. [`Evaluator::evaluate`] applies the policy (`policy`): a lifted wheel needs no solve; the wetness is
+//!    clamped to [0, 1]; the point is turned into the frame in which the contact rolls forwards at a speed
+//!    of at least the minimum speed (`frame`); the mode routes it to the lookup table
+//!    ([`crate::table::Table`]) or to the exact coupled solver ([`Model::solve_from`], [`crate::solver`]).
+//! 3. The results come back turned into the MBS frame, with what evaluated them and the notices (fell back
+//!    to the exact solver, clamped to the table's ranges, wetness clamped) for the caller to report once.
+//! 4. The caller translates them back: FMU outputs, statuses and log lines; CLI JSON and warnings.
+//!
+//! Conventions of the policy: docs/model.md §1 (frame, rolling backwards, standstill, lifted wheel) and
+//! §12.3 (the tabulated model).
+
+mod frame;
+mod policy;
+#[cfg(test)]
+mod tests;
+
+pub use policy::{
+    DEFAULT_MINIMUM_SPEED, DERIVATIVE_TOLERANCE, Evaluated, Evaluation, Evaluator, ExactResults,
+    Fallback, LIFT_OFF_LOAD, Mode, Notice, Notices, Policy,
+};
+
+use crate::error::Result;
+use crate::params::{OperatingPoint, Params};
+/// Where an exact solve can start from (the state of a nearby solution), as the evaluator takes it.
+pub use crate::solver::WarmStart;
+use crate::solver::{self, Solution};
+
+/// The model for one parameter set: the parameters are validated once, when it is made, and every solve
+/// uses them as they are.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Model {
+    params: Params,
+}
+
+impl Model {
+    /// The model of `params`, validated (an [`crate::Error::OutOfRange`] names the first bad value).
+    pub fn new(params: Params) -> Result<Model> {
+        params.validate()?;
+        Ok(Model { params })
+    }
+
+    /// The (validated) parameter set.
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// Solves one operating point with the exact coupled solver from a cold start ([`solver::solve`]).
+    pub fn solve(&self, point: &OperatingPoint) -> Result<Solution> {
+        self.solve_from(point, None)
+    }
+
+    /// Solves one operating point starting from a nearby solution's state ([`solver::solve_from`]).
+    pub fn solve_from(&self, point: &OperatingPoint, warm: Option<&WarmStart>) -> Result<Solution> {
+        solver::solve_from(&self.params, point, warm)
+    }
+
+    /// Solves a sequence of nearby operating points with warm starts, in parallel chains
+    /// ([`solver::solve_sweep`]).
+    pub fn sweep(&self, points: &[OperatingPoint]) -> Vec<Result<Solution>> {
+        solver::solve_sweep(&self.params, points)
+    }
+
+    /// The same model with the coupled solver's tolerance tightened to at most `tolerance` (for the
+    /// evaluations behind finite differences).
+    fn tightened(&self, tolerance: f64) -> Model {
+        let mut params = self.params.clone();
+        params.solver.tolerance = params.solver.tolerance.min(tolerance);
+        Model { params }
+    }
+}

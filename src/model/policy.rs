@@ -1,0 +1,377 @@
+//! The evaluation policy: how one operating point of a multibody simulation is evaluated, by the lookup
+//! table or by the exact solver, in which frame, and what the caller is told about it (docs/model.md §1,
+//! §12.3).
+//!
+//! - **Wheel lifted:** a normal force at or below the lift-off load ([`LIFT_OFF_LOAD`]) gives zero forces
+//!   and moment, traction coefficient 0, fluid load fraction 0, maximum temperature = the bulk temperature,
+//!   converged; nothing is solved or checked.
+//! - **Frame:** rolling backwards, standstill and wetness outside [0, 1] as in `frame` (the wetness clamp is
+//!   a [`Notice`]).
+//! - **Mode** ([`Mode`]): auto evaluates by the table where it was built for the model's parameters and
+//!   the point lies inside its ranges, else by the exact solver (a [`Notice::FellBack`] with the reason);
+//!   table-only clamps points to the table's ranges ([`Notice::Clamped`]) and refuses other parameters
+//!   ([`crate::Error::TableParameters`]); exact-only always solves.
+//! - **Derivatives:** by table, the exact derivatives of the interpolant chained through the frame turn,
+//!   the minimum speed and the wetness clamp ([`Evaluator::table_jacobian`]). Elsewhere the caller
+//!   differences [`Evaluator::evaluate`] with the solver tolerance tightened to [`DERIVATIVE_TOLERANCE`],
+//!   so that solver noise (relative error ≈ tolerance/step) stays far below a step of 10⁻⁴.
+
+use super::Model;
+use super::frame::Solved;
+use crate::error::{Error, Result, check_finite, check_positive};
+use crate::params::OperatingPoint;
+use crate::solver::{GlobalResults, SolverReport, WarmStart};
+use crate::table::{Jacobian, Table, TableOutput, other_parameters};
+use std::sync::Arc;
+
+/// Normal force at or below which the wheel counts as lifted [N]: the library's smallest admissible load.
+pub const LIFT_OFF_LOAD: f64 = 1e-3;
+/// Default standstill regularisation: |V| below this speed is raised to it [m/s].
+pub const DEFAULT_MINIMUM_SPEED: f64 = 0.01;
+/// Solver tolerance of the exact evaluations behind a finite difference [-].
+pub const DERIVATIVE_TOLERANCE: f64 = 1e-8;
+
+/// Which evaluates an operating point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// The lookup table where usable (built for the model's parameters, point inside its ranges), else the
+    /// exact solver. Without a table, the exact solver.
+    Auto,
+    /// Only the lookup table: points outside its ranges are clamped to them; a table built for other
+    /// parameters is an error.
+    TableOnly,
+    /// Only the exact solver.
+    ExactOnly,
+}
+
+impl std::fmt::Display for Mode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Mode::Auto => "auto",
+            Mode::TableOnly => "table",
+            Mode::ExactOnly => "exact",
+        })
+    }
+}
+
+/// The settings of the policy.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Policy {
+    /// Standstill regularisation: |V| below this speed is raised to it [m/s] (finite, > 0).
+    pub minimum_speed: f64,
+    /// A normal force at or below this load lifts the wheel [N] (finite).
+    pub lift_off_load: f64,
+}
+
+impl Default for Policy {
+    fn default() -> Self {
+        Policy {
+            minimum_speed: DEFAULT_MINIMUM_SPEED,
+            lift_off_load: LIFT_OFF_LOAD,
+        }
+    }
+}
+
+impl Policy {
+    /// Checks the settings; the error names the bad one.
+    pub fn validate(&self) -> Result<()> {
+        check_positive("minimum_speed", self.minimum_speed, "m/s")?;
+        check_finite("lift_off_load", self.lift_off_load, "N")
+    }
+}
+
+/// Why mode auto evaluated a point by the exact solver although it has a table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fallback {
+    /// The table was built for other parameters than the model's.
+    OtherParameters,
+    /// The point lies outside the table's ranges.
+    OutsideRanges,
+}
+
+/// Something an evaluation did that its caller may want to report (the evaluator reports it every time;
+/// the FMU and the command line tell the user once).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Notice {
+    /// Mode auto evaluated by the exact solver: why.
+    FellBack(Fallback),
+    /// Mode table-only clamped the point to the table's ranges.
+    Clamped,
+    /// The wetness was outside [0, 1]: the value given and the one used.
+    WetnessClamped {
+        /// The caller's wetness [-].
+        given: f64,
+        /// The wetness evaluated [-].
+        used: f64,
+    },
+}
+
+/// The notices of one evaluation: at most one about the wetness and one about the route (no allocation).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Notices {
+    wetness: Option<Notice>,
+    route: Option<Notice>,
+}
+
+impl Notices {
+    /// The notices, the wetness one first.
+    pub fn iter(&self) -> impl Iterator<Item = Notice> + '_ {
+        self.wetness.iter().chain(&self.route).copied()
+    }
+
+    /// Whether there is none.
+    pub fn is_empty(&self) -> bool {
+        self.wetness.is_none() && self.route.is_none()
+    }
+}
+
+/// The exact solver's results behind an evaluation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExactResults {
+    /// Global results in the caller's frame (F_x and F_y turned back when rolling backwards).
+    pub global: GlobalResults,
+    /// How the coupled solve went (iterations, residual, converged).
+    pub report: SolverReport,
+}
+
+/// What evaluated an operating point, with its results in the caller's frame.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Evaluated {
+    /// Interpolation in the lookup table: the interpolated outputs.
+    Table(TableOutput),
+    /// The exact coupled solver: its global results (what the friction law does not model is absent) and
+    /// report.
+    Exact(Box<ExactResults>),
+    /// Nothing: the wheel is lifted (zero forces and moment, the bulk temperature, no fluid).
+    Lifted(TableOutput),
+}
+
+impl Evaluated {
+    /// The exact solver's report (None by table or lifted).
+    pub fn report(&self) -> Option<&SolverReport> {
+        match self {
+            Evaluated::Exact(e) => Some(&e.report),
+            _ => None,
+        }
+    }
+}
+
+/// One evaluated operating point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Evaluation {
+    /// What evaluated it, with the results.
+    pub by: Evaluated,
+    /// What the caller may want to report.
+    pub notices: Notices,
+}
+
+impl Evaluation {
+    /// The six outputs of an MBS contact in the caller's frame (from the exact solver: `in_range` true).
+    /// An error if the exact solver's friction law does not model one of them
+    /// ([`TableOutput::from_results`]; the Tomberger law models them all).
+    pub fn outputs(&self) -> Result<TableOutput> {
+        match &self.by {
+            Evaluated::Table(o) | Evaluated::Lifted(o) => Ok(*o),
+            Evaluated::Exact(e) => TableOutput::from_results(&e.global, &e.report),
+        }
+    }
+}
+
+/// How one point is evaluated.
+enum Route<'a> {
+    /// By the exact solver.
+    Exact,
+    /// By this table (possibly clamped).
+    Table(&'a Table),
+}
+
+/// The point of a caller in the solved frame, its route and the notices so far (None: wheel lifted).
+type Prepared<'a> = Option<(Solved, Route<'a>, Notices)>;
+
+/// The evaluation policy for one model: mode, lookup table and settings.
+#[derive(Debug, Clone)]
+pub struct Evaluator {
+    model: Model,
+    mode: Mode,
+    /// The table the mode uses (None in mode exact-only).
+    table: Option<Arc<Table>>,
+    /// Whether the table was built for the model's parameters (kept: comparing them is a large part of a
+    /// table evaluation's cost).
+    matches: bool,
+    policy: Policy,
+}
+
+impl Evaluator {
+    /// The evaluator of `model` in `mode` with `table` (shared read-only, e.g. from
+    /// [`Table::load_shared`]; ignored in mode exact-only). Errors: bad settings
+    /// ([`Error::OutOfRange`]), mode table-only without a table ([`Error::NoTable`]).
+    pub fn new(
+        model: Model,
+        mode: Mode,
+        table: Option<Arc<Table>>,
+        policy: Policy,
+    ) -> Result<Evaluator> {
+        policy.validate()?;
+        let table = table.filter(|_| mode != Mode::ExactOnly);
+        if mode == Mode::TableOnly && table.is_none() {
+            return Err(Error::NoTable { mode });
+        }
+        let matches = table.as_ref().is_some_and(|t| t.matches(model.params()));
+        Ok(Evaluator {
+            model,
+            mode,
+            table,
+            matches,
+            policy,
+        })
+    }
+
+    /// The model.
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// The mode.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// The table the mode uses (None in mode exact-only, or in mode auto without a table).
+    pub fn table(&self) -> Option<&Arc<Table>> {
+        self.table.as_ref()
+    }
+
+    /// The settings.
+    pub fn policy(&self) -> &Policy {
+        &self.policy
+    }
+
+    /// Whether there is a table and it was built for the model's parameters.
+    pub fn matches(&self) -> bool {
+        self.matches
+    }
+
+    /// Which way a point of the solved frame goes, and the notice about it.
+    fn route(&self, point: &OperatingPoint) -> Result<(Route<'_>, Option<Notice>)> {
+        let Some(table) = self.table.as_deref() else {
+            return Ok((Route::Exact, None));
+        };
+        let inside = table.in_range(point);
+        match self.mode {
+            Mode::TableOnly if !self.matches => Err(other_parameters(table, self.model.params())),
+            Mode::TableOnly => Ok((Route::Table(table), (!inside).then_some(Notice::Clamped))),
+            _ if !self.matches => Ok((
+                Route::Exact,
+                Some(Notice::FellBack(Fallback::OtherParameters)),
+            )),
+            _ if !inside => Ok((
+                Route::Exact,
+                Some(Notice::FellBack(Fallback::OutsideRanges)),
+            )),
+            _ => Ok((Route::Table(table), None)),
+        }
+    }
+
+    /// The caller's point in the solved frame, its route and notices (None: the wheel is lifted).
+    fn prepare(&self, input: &OperatingPoint) -> Result<Prepared<'_>> {
+        if input.normal_force <= self.policy.lift_off_load {
+            return Ok(None);
+        }
+        let solved = Solved::of(input, self.policy.minimum_speed);
+        let mut notices = Notices::default();
+        if solved.wetness_clamped() {
+            notices.wetness = Some(Notice::WetnessClamped {
+                given: input.wetness,
+                used: solved.point.wetness,
+            });
+        }
+        let (route, notice) = self.route(&solved.point)?;
+        solved.check(input)?;
+        notices.route = notice;
+        Ok(Some((solved, route, notices)))
+    }
+
+    /// Evaluates one operating point given in the caller's (MBS) frame: any sign of the rolling speed, a
+    /// lifted wheel, any wetness (see the module documentation). An exact solve uses the solver tolerance
+    /// tightened to `tolerance` if given, starts from `warm` if it holds a state and leaves its own state
+    /// there. Errors: invalid input (named as the caller gave it), mode table-only with a table for other
+    /// parameters, the solver's.
+    pub fn evaluate(
+        &self,
+        input: &OperatingPoint,
+        tolerance: Option<f64>,
+        warm: &mut Option<WarmStart>,
+    ) -> Result<Evaluation> {
+        let Some((solved, route, notices)) = self.prepare(input)? else {
+            return Ok(self.lifted());
+        };
+        let mut by = match route {
+            Route::Table(t) => Evaluated::Table(t.evaluate(&solved.point)?),
+            Route::Exact => self.exact(&solved.point, tolerance, warm)?,
+        };
+        match &mut by {
+            Evaluated::Table(o) | Evaluated::Lifted(o) => {
+                solved.turn_back(&mut o.force_x, &mut o.force_y)
+            }
+            Evaluated::Exact(e) => solved.turn_back(&mut e.global.force_x, &mut e.global.force_y),
+        }
+        Ok(Evaluation { by, notices })
+    }
+
+    /// The Jacobian of [`Evaluator::evaluate`]'s outputs (rows F_x, F_y, M_z, traction coefficient, T_max,
+    /// fluid load fraction) with respect to the caller's inputs (columns ξ, η, φ, F_N, V, w), both in the
+    /// caller's frame, where the table evaluates `input`: the interpolant's exact derivatives chained
+    /// through the frame turn, the minimum speed and the wetness clamp. None where the exact solver would
+    /// evaluate or the wheel is lifted. With the evaluation's notices.
+    pub fn table_jacobian(&self, input: &OperatingPoint) -> Result<(Option<Jacobian>, Notices)> {
+        let Some((solved, route, notices)) = self.prepare(input)? else {
+            return Ok((None, Notices::default()));
+        };
+        let Route::Table(table) = route else {
+            return Ok((None, notices));
+        };
+        let (_, jac) = table.evaluate_with_jacobian(&solved.point)?;
+        Ok((Some(solved.jacobian_back(&jac)), notices))
+    }
+
+    /// The outputs of a lifted wheel.
+    fn lifted(&self) -> Evaluation {
+        Evaluation {
+            by: Evaluated::Lifted(TableOutput {
+                force_x: 0.0,
+                force_y: 0.0,
+                spin_moment: 0.0,
+                traction_coefficient: 0.0,
+                max_temperature: self.model.params().material.bulk_temperature,
+                fluid_load_fraction: 0.0,
+                in_range: true,
+                converged: true,
+            }),
+            notices: Notices::default(),
+        }
+    }
+
+    /// The exact solver's results at a point of the solved frame (see [`Evaluator::evaluate`]).
+    fn exact(
+        &self,
+        point: &OperatingPoint,
+        tolerance: Option<f64>,
+        warm: &mut Option<WarmStart>,
+    ) -> Result<Evaluated> {
+        let tightened;
+        let model = match tolerance {
+            Some(t) => {
+                tightened = self.model.tightened(t);
+                &tightened
+            }
+            None => &self.model,
+        };
+        let s = model.solve_from(point, warm.as_ref())?;
+        *warm = s.warm_start();
+        let exact = ExactResults {
+            global: s.global,
+            report: s.report,
+        };
+        Ok(Evaluated::Exact(Box::new(exact)))
+    }
+}

@@ -1,0 +1,480 @@
+//! The model and its evaluation policy: validation, routing and its notices, clamping, lift-off, the frame
+//! turn, the minimum speed, the wetness clamp, the chained table Jacobian, the tightened exact solve.
+
+use super::*;
+use crate::Error;
+use crate::table::{Table, TableOutput, small_axes};
+use std::sync::{Arc, OnceLock};
+
+/// The default parameters on a coarse 6 × 6 grid (cheap exact solves).
+fn params() -> Params {
+    let mut p = Params::default();
+    p.grid.nx = 6;
+    p.grid.ny = 6;
+    p
+}
+
+/// A small table for [`params`] ([`small_axes`]), built once in memory.
+fn table() -> Arc<Table> {
+    static TABLE: OnceLock<Arc<Table>> = OnceLock::new();
+    TABLE
+        .get_or_init(|| {
+            let files = crate::table::build(&params(), &small_axes(), None, &|| ()).unwrap();
+            Arc::new(Table::from_files(files, None).unwrap())
+        })
+        .clone()
+}
+
+fn evaluator(mode: Mode, params: Params) -> Evaluator {
+    Evaluator::new(
+        Model::new(params).unwrap(),
+        mode,
+        Some(table()),
+        Policy::default(),
+    )
+    .unwrap()
+}
+
+/// A point inside the small table's ranges.
+fn inside() -> OperatingPoint {
+    OperatingPoint {
+        creepage_x: 0.003,
+        creepage_y: -0.001,
+        spin: 0.2,
+        normal_force: 100e3,
+        speed: 30.0,
+        wetness: 0.1,
+    }
+}
+
+fn eval(e: &Evaluator, p: &OperatingPoint) -> Evaluation {
+    e.evaluate(p, None, &mut None).unwrap()
+}
+
+fn values(o: &TableOutput) -> [f64; 6] {
+    [
+        o.force_x,
+        o.force_y,
+        o.spin_moment,
+        o.traction_coefficient,
+        o.max_temperature,
+        o.fluid_load_fraction,
+    ]
+}
+
+fn notice_list(e: &Evaluation) -> Vec<Notice> {
+    e.notices.iter().collect()
+}
+
+#[test]
+fn a_model_validates_once_and_solves_as_the_solver() {
+    let mut bad = params();
+    bad.roughness.k_r = 1.5;
+    let e = Model::new(bad).unwrap_err();
+    assert!(e.to_string().contains("roughness.k_r"), "{e}");
+    let m = Model::new(params()).unwrap();
+    assert_eq!(m.params(), &params());
+    let points = [0.001, 0.002, 0.004].map(|xi| OperatingPoint {
+        creepage_x: xi,
+        ..Default::default()
+    });
+    assert_eq!(
+        m.solve(&points[0]).unwrap(),
+        crate::solve(&params(), &points[0]).unwrap()
+    );
+    let warm = m.solve(&points[0]).unwrap().warm_start();
+    assert_eq!(
+        m.solve_from(&points[1], warm.as_ref()).unwrap(),
+        crate::solve_from(&params(), &points[1], warm.as_ref()).unwrap()
+    );
+    let swept: Vec<_> = m.sweep(&points).into_iter().map(Result::unwrap).collect();
+    let want: Vec<_> = crate::solver::solve_sweep(&params(), &points)
+        .into_iter()
+        .map(Result::unwrap)
+        .collect();
+    assert_eq!(swept, want);
+}
+
+#[test]
+fn settings_and_modes_are_checked_when_the_evaluator_is_made() {
+    let model = || Model::new(params()).unwrap();
+    let slow = Policy {
+        minimum_speed: 0.0,
+        ..Policy::default()
+    };
+    let e = Evaluator::new(model(), Mode::ExactOnly, None, slow).unwrap_err();
+    assert!(e.to_string().contains("minimum_speed: 0"), "{e}");
+    let e = Evaluator::new(model(), Mode::TableOnly, None, Policy::default()).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::NoTable {
+                mode: Mode::TableOnly
+            }
+        ),
+        "{e}"
+    );
+    assert_eq!(e.to_string(), "evaluation mode table needs a lookup table");
+    // exact only ignores a table; auto without one solves every point, with nothing to report
+    let e = Evaluator::new(model(), Mode::ExactOnly, Some(table()), Policy::default()).unwrap();
+    assert!(e.table().is_none() && !e.matches());
+    let e = Evaluator::new(model(), Mode::Auto, None, Policy::default()).unwrap();
+    let r = eval(&e, &inside());
+    assert!(matches!(r.by, Evaluated::Exact(_)) && r.notices.is_empty());
+}
+
+#[test]
+fn auto_uses_the_table_where_usable_and_else_the_exact_solver_with_the_reason() {
+    let auto = evaluator(Mode::Auto, params());
+    assert!(auto.matches());
+    let r = eval(&auto, &inside());
+    assert!(matches!(r.by, Evaluated::Table(_)));
+    assert!(r.notices.is_empty());
+    assert_eq!(r.outputs().unwrap(), table().evaluate(&inside()).unwrap());
+    // outside the speed range
+    let fast = OperatingPoint {
+        speed: 60.0,
+        ..inside()
+    };
+    let r = eval(&auto, &fast);
+    assert!(matches!(r.by, Evaluated::Exact(_)));
+    assert_eq!(notice_list(&r), [Notice::FellBack(Fallback::OutsideRanges)]);
+    let s = crate::solve(&params(), &fast).unwrap();
+    assert_eq!(r.outputs().unwrap().force_x, s.global.force_x);
+    assert_eq!(r.by.report(), Some(&s.report));
+    // other parameters
+    let mut rough = params();
+    rough.roughness.k_r = 0.6;
+    let other = evaluator(Mode::Auto, rough.clone());
+    assert!(!other.matches());
+    let r = eval(&other, &inside());
+    assert!(matches!(r.by, Evaluated::Exact(_)));
+    assert_eq!(
+        notice_list(&r),
+        [Notice::FellBack(Fallback::OtherParameters)]
+    );
+    assert_eq!(
+        r.outputs().unwrap().force_x,
+        crate::solve(&rough, &inside()).unwrap().global.force_x
+    );
+    // the table agrees with the exact solver at a table point (wet, η < 0 by the mirror)
+    let node = OperatingPoint {
+        creepage_x: 0.002,
+        creepage_y: -0.002,
+        spin: -0.1,
+        normal_force: 80e3,
+        speed: 40.0,
+        wetness: 0.2,
+    };
+    let exact = evaluator(Mode::ExactOnly, params());
+    let (a, b) = (eval(&auto, &node), eval(&exact, &node));
+    assert!(matches!(a.by, Evaluated::Table(_)));
+    for k in 0..3 {
+        let (x, y) = (
+            values(&a.outputs().unwrap())[k],
+            values(&b.outputs().unwrap())[k],
+        );
+        assert!((x - y).abs() < 1e-6 * 80e3, "{k}: {x} vs {y}");
+    }
+}
+
+#[test]
+fn table_only_clamps_with_a_notice_and_refuses_other_parameters() {
+    let only = evaluator(Mode::TableOnly, params());
+    let r = eval(
+        &only,
+        &OperatingPoint {
+            speed: 60.0,
+            ..inside()
+        },
+    );
+    assert!(matches!(r.by, Evaluated::Table(_)));
+    assert_eq!(notice_list(&r), [Notice::Clamped]);
+    assert!(!r.outputs().unwrap().in_range);
+    // clamped to the largest speed of the table
+    let edge = eval(
+        &only,
+        &OperatingPoint {
+            speed: 40.0,
+            ..inside()
+        },
+    );
+    assert!(edge.notices.is_empty());
+    assert_eq!(
+        values(&r.outputs().unwrap()),
+        values(&edge.outputs().unwrap())
+    );
+    let mut rough = params();
+    rough.roughness.k_r = 0.6;
+    let e = evaluator(Mode::TableOnly, rough)
+        .evaluate(&inside(), None, &mut None)
+        .unwrap_err();
+    assert!(matches!(e, Error::TableParameters { .. }), "{e}");
+    assert!(e.to_string().contains("other parameters"), "{e}");
+}
+
+#[test]
+fn a_lifted_wheel_needs_no_solve_and_no_check() {
+    let mut hot = params();
+    hot.material.bulk_temperature = 300.0;
+    let mut rough = params();
+    rough.roughness.k_r = 0.6;
+    // table only with other parameters: an error once the wheel is down, not while it is lifted
+    for e in [
+        evaluator(Mode::ExactOnly, hot),
+        evaluator(Mode::TableOnly, rough),
+    ] {
+        for load in [LIFT_OFF_LOAD, 0.0, -5e3] {
+            let lifted = OperatingPoint {
+                normal_force: load,
+                creepage_x: 2.5,
+                wetness: 1.5,
+                ..inside()
+            };
+            let mut warm = None;
+            let r = e.evaluate(&lifted, None, &mut warm).unwrap();
+            assert!(matches!(r.by, Evaluated::Lifted(_)));
+            assert!(r.notices.is_empty() && warm.is_none());
+            assert_eq!(values(&r.outputs().unwrap())[..4], [0.0; 4]);
+            assert_eq!(
+                r.outputs().unwrap().max_temperature,
+                e.model().params().material.bulk_temperature
+            );
+            assert_eq!(r.outputs().unwrap().fluid_load_fraction, 0.0);
+            assert!(r.outputs().unwrap().converged && r.outputs().unwrap().in_range);
+            assert_eq!(
+                e.table_jacobian(&lifted).unwrap(),
+                (None, Notices::default())
+            );
+        }
+    }
+}
+
+#[test]
+fn rolling_backwards_is_the_turned_point_rolling_forwards() {
+    for mode in [Mode::Auto, Mode::ExactOnly] {
+        let e = evaluator(mode, params());
+        let back = OperatingPoint {
+            speed: -30.0,
+            ..inside()
+        };
+        let turned = OperatingPoint {
+            creepage_x: -back.creepage_x,
+            creepage_y: -back.creepage_y,
+            speed: 30.0,
+            ..back
+        };
+        let (b, f) = (eval(&e, &back), eval(&e, &turned));
+        assert_eq!(matches!(b.by, Evaluated::Table(_)), mode == Mode::Auto);
+        let [fx, fy, mz, rest @ ..] = values(&f.outputs().unwrap());
+        assert_eq!(
+            values(&b.outputs().unwrap()),
+            [-fx, -fy, mz, rest[0], rest[1], rest[2]]
+        );
+        if let (Evaluated::Exact(b), Evaluated::Exact(f)) = (&b.by, &f.by) {
+            assert_eq!(b.global.force_x, -f.global.force_x);
+            assert_eq!(b.global.force_y, -f.global.force_y);
+            assert_eq!(b.global.spin_moment, f.global.spin_moment);
+        }
+    }
+}
+
+#[test]
+fn speeds_below_the_minimum_are_raised_to_it() {
+    for mode in [Mode::TableOnly, Mode::ExactOnly] {
+        let e = evaluator(mode, params());
+        let at = |speed: f64| {
+            eval(&e, &OperatingPoint { speed, ..inside() })
+                .outputs()
+                .unwrap()
+        };
+        // V = 0 counts as forwards
+        let forwards = at(DEFAULT_MINIMUM_SPEED);
+        for v in [0.0, 1e-9, DEFAULT_MINIMUM_SPEED / 2.0] {
+            assert_eq!(at(v), forwards, "{v}");
+        }
+        let backwards = at(-DEFAULT_MINIMUM_SPEED);
+        assert_ne!(backwards, forwards);
+        for v in [-1e-9, -DEFAULT_MINIMUM_SPEED / 2.0] {
+            assert_eq!(at(v), backwards, "{v}");
+        }
+    }
+}
+
+#[test]
+fn wetness_outside_the_unit_interval_is_clamped_with_a_notice() {
+    let e = evaluator(Mode::ExactOnly, params());
+    for (given, used) in [(1.5, 1.0), (-0.5, 0.0)] {
+        let r = eval(
+            &e,
+            &OperatingPoint {
+                wetness: given,
+                ..inside()
+            },
+        );
+        assert_eq!(notice_list(&r), [Notice::WetnessClamped { given, used }]);
+        let want = eval(
+            &e,
+            &OperatingPoint {
+                wetness: used,
+                ..inside()
+            },
+        );
+        assert!(want.notices.is_empty());
+        assert_eq!(r.outputs().unwrap(), want.outputs().unwrap());
+    }
+}
+
+#[test]
+fn errors_name_the_values_the_caller_gave() {
+    let e = evaluator(Mode::Auto, params());
+    for speed in [30.0, -30.0] {
+        let err = e
+            .evaluate(
+                &OperatingPoint {
+                    creepage_x: 2.5,
+                    speed,
+                    ..inside()
+                },
+                None,
+                &mut None,
+            )
+            .unwrap_err();
+        assert!(err.to_string().contains("creepage-x: 2.5 "), "{err}");
+    }
+    // a NaN speed is not raised to the minimum speed
+    let err = e
+        .evaluate(
+            &OperatingPoint {
+                speed: f64::NAN,
+                ..inside()
+            },
+            None,
+            &mut None,
+        )
+        .unwrap_err();
+    assert!(err.to_string().contains("speed: NaN"), "{err}");
+}
+
+#[test]
+fn exact_solves_take_a_warm_start_and_a_tightened_tolerance() {
+    let e = evaluator(Mode::ExactOnly, params());
+    let p = OperatingPoint {
+        creepage_x: 0.01,
+        wetness: 0.0,
+        ..inside()
+    };
+    let mut warm = None;
+    let loose = e.evaluate(&p, None, &mut warm).unwrap();
+    let loose = *loose.by.report().unwrap();
+    assert!(warm.is_some());
+    assert!(
+        loose.converged && loose.residual > DERIVATIVE_TOLERANCE,
+        "{loose:?}"
+    );
+    let tight = e
+        .evaluate(&p, Some(DERIVATIVE_TOLERANCE), &mut None)
+        .unwrap();
+    let tight = *tight.by.report().unwrap();
+    assert!(
+        tight.converged && tight.residual <= DERIVATIVE_TOLERANCE,
+        "{tight:?}"
+    );
+    // from the state of a nearby solution: the same fixed point, fewer iterations
+    let near = OperatingPoint {
+        creepage_x: 0.0101,
+        ..p
+    };
+    let cold = e.evaluate(&near, None, &mut None).unwrap();
+    let hot = e.evaluate(&near, None, &mut warm).unwrap();
+    assert!(hot.by.report().unwrap().iterations < cold.by.report().unwrap().iterations);
+    assert!(
+        (hot.outputs().unwrap().force_x - cold.outputs().unwrap().force_x).abs()
+            < 1e-5 * cold.outputs().unwrap().force_x.abs()
+    );
+    // a table evaluation leaves the warm start alone
+    let before = warm.clone();
+    let r = evaluator(Mode::TableOnly, params())
+        .evaluate(&inside(), None, &mut warm)
+        .unwrap();
+    assert!(matches!(r.by, Evaluated::Table(_)));
+    assert_eq!(warm, before);
+}
+
+#[test]
+fn the_table_jacobian_is_that_of_evaluate_in_the_callers_frame() {
+    // a minimum speed inside the table's speed range, so that raised speeds are still evaluated by table
+    let e = Evaluator::new(
+        Model::new(params()).unwrap(),
+        Mode::Auto,
+        Some(table()),
+        Policy {
+            minimum_speed: 25.0,
+            ..Policy::default()
+        },
+    )
+    .unwrap();
+    // output and input scales for an absolute floor of the comparison
+    let out_scale = [1e5, 1e5, 1e3, 1.0, 300.0, 1.0];
+    let in_scale = [1e-2, 1e-2, 1.0, 1e5, 30.0, 1.0];
+    let steps = [1e-7, 1e-7, 1e-6, 1.0, 1e-5, 1e-7];
+    let set = |p: &mut OperatingPoint, c: usize, x: f64| match c {
+        0 => p.creepage_x = x,
+        1 => p.creepage_y = x,
+        2 => p.spin = x,
+        3 => p.normal_force = x,
+        4 => p.speed = x,
+        _ => p.wetness = x,
+    };
+    let get = |p: &OperatingPoint, c: usize| crate::table::coordinates(p)[c];
+    // rolling backwards (the creepages, F_x and F_y turn); below the minimum speed with a clamped wetness
+    // (the columns of V and w vanish)
+    let backwards = OperatingPoint {
+        speed: -30.0,
+        ..inside()
+    };
+    let slow = OperatingPoint {
+        speed: -10.0,
+        wetness: -0.5,
+        ..inside()
+    };
+    for p in [backwards, slow] {
+        let (jac, _) = e.table_jacobian(&p).unwrap();
+        let jac = jac.expect("by table");
+        for c in 0..6 {
+            let at = |x: f64| {
+                let mut q = p;
+                set(&mut q, c, get(&p, c) + x);
+                let r = eval(&e, &q);
+                assert!(matches!(r.by, Evaluated::Table(_)));
+                values(&r.outputs().unwrap())
+            };
+            let (hi, lo) = (at(steps[c]), at(-steps[c]));
+            for r in 0..6 {
+                let fd = (hi[r] - lo[r]) / (2.0 * steps[c]);
+                let floor = 1e-6 * out_scale[r] / in_scale[c];
+                assert!(
+                    (jac[r][c] - fd).abs() <= 1e-4 * fd.abs() + floor,
+                    "{p:?}: output {r}, input {c}: {} vs {fd}",
+                    jac[r][c]
+                );
+            }
+        }
+        assert!(jac.iter().flatten().any(|d| *d != 0.0));
+    }
+    let (jac, _) = e.table_jacobian(&slow).unwrap();
+    let jac = jac.unwrap();
+    assert!(jac.iter().all(|row| row[4] == 0.0 && row[5] == 0.0));
+    let (jac, _) = e.table_jacobian(&backwards).unwrap();
+    assert!(jac.unwrap().iter().any(|row| row[4] != 0.0));
+    // where the exact solver evaluates there is no table Jacobian; the notices are evaluate's
+    let fast = OperatingPoint {
+        speed: 60.0,
+        wetness: -1.0,
+        ..inside()
+    };
+    let (jac, notices) = e.table_jacobian(&fast).unwrap();
+    assert!(jac.is_none());
+    assert_eq!(notices, eval(&e, &fast).notices);
+    assert_eq!(notices.iter().count(), 2);
+}
