@@ -1,6 +1,6 @@
-//! Failure stress and local friction (paper §2.1, eqs. P1, P3, P6; MODEL.md §5).
+//! Failure stress and local friction (paper §2.1, eqs. P1, P3, P6; docs/model.md §5).
 
-/// Failure-stress factor k for a cell holding fluid of height `l_f` [m] (MODEL.md §5, project continuity
+/// Failure-stress factor k for a cell holding fluid of height `l_f` [m] (docs/model.md §5, project continuity
 /// extension of P3): k = k_dry − (k_dry − k_wet)·min(1, l_f/h_bl). Dry cells (l_f = 0) give k_dry; a film of
 /// h_bl or more gives the boundary-lubrication value k_wet.
 pub fn failure_stress_factor(k_dry: f64, k_wet: f64, l_f: f64, h_bl: f64) -> f64 {

@@ -1,4 +1,4 @@
-//! Temperature-dependent steel of wheel and rail (MODEL.md §3; the paper's Fig. 4 as project defaults).
+//! Temperature-dependent steel of wheel and rail (docs/model.md §3; the paper's Fig. 4 as project defaults).
 
 use crate::params::Material;
 
@@ -20,14 +20,14 @@ pub struct MaterialState {
 }
 
 impl Material {
-    /// Young's modulus E(T) = E_ref·max(floor, 1 − slope·(T − T_ref)) [Pa], T in K (MODEL.md §3).
+    /// Young's modulus E(T) = E_ref·max(floor, 1 − slope·(T − T_ref)) [Pa], T in K (docs/model.md §3).
     pub fn youngs_modulus_at(&self, t: f64) -> f64 {
         let dt = t - self.reference_temperature;
         self.youngs_modulus * (1.0 - self.youngs_slope * dt).max(self.youngs_floor)
     }
 
     /// Yield stress σ_y(T) = σ_y,ref·max(floor, 1 − (T − T_ref)/span)·(1 + A·exp(−((T − T_a)/w)²)) [Pa]
-    /// with the yield-stress anomaly bump (dynamic strain ageing, paper §2.2; MODEL.md §3).
+    /// with the yield-stress anomaly bump (dynamic strain ageing, paper §2.2; docs/model.md §3).
     pub fn yield_stress_at(&self, t: f64) -> f64 {
         let dt = t - self.reference_temperature;
         let linear = (1.0 - dt / self.yield_span).max(self.yield_floor);
@@ -80,7 +80,7 @@ mod tests {
         assert!((s.hardness - 4e9).abs() < 1.0);
         // anomaly at 20 °C is exp(-(430/80)^2) ≈ 3e-13: negligible
         assert!((s.yield_stress - 600e6).abs() < 1e-3 * 600e6);
-        // E falls by about 11 % at 300 °C (MODEL.md §3)
+        // E falls by about 11 % at 300 °C (docs/model.md §3)
         let e300 = m.youngs_modulus_at(300.0 + CELSIUS_ZERO);
         assert!((e300 / 210e9 - 0.888).abs() < 1e-9);
         // diffusivity 1.415e-5, effusivity 13 290

@@ -1,5 +1,5 @@
 //! The interfacial fluid in the coupled solver: conservation, complementarity, compatibility (P17), and the
-//! paper's qualitative findings (MODEL.md §8, §11).
+//! paper's qualitative findings (docs/model.md §8, §11).
 
 use wheelrail::fluid::Regime;
 use wheelrail::{OperatingPoint, Params, Solution, solve};

@@ -1,4 +1,4 @@
-//! The coupled solver against the paper's qualitative findings and independent limits (MODEL.md §9–11).
+//! The coupled solver against the paper's qualitative findings and independent limits (docs/model.md §9–11).
 
 use wheelrail::params::FrictionLaw;
 use wheelrail::{OperatingPoint, Params, solve};

@@ -39,7 +39,7 @@ fn point_json_has_the_contract_keys() {
     assert_eq!(v["normal_force"].as_f64(), Some(100e3));
     assert_eq!(v["converged"].as_bool(), Some(true));
     assert!(v["force_x"].as_f64().unwrap() < 0.0);
-    // MODEL.md §2 Hertz reference: a = 5.879 mm, b = 10.540 mm
+    // docs/model.md §2 Hertz reference: a = 5.879 mm, b = 10.540 mm
     assert!((v["semi_axis_a"].as_f64().unwrap() - 5.879e-3).abs() < 6e-6);
     assert!((v["semi_axis_b"].as_f64().unwrap() - 10.540e-3).abs() < 1.1e-5);
 }
@@ -268,7 +268,7 @@ fn point_json_says_what_limited_an_unconverged_solve_and_null_for_what_a_law_doe
     }
 }
 
-/// A small table for the default parameters on a 6 × 6 grid (`wheelrail::table::small_axes`: ξ, η ≤ 1 %,
+/// A small table for the default parameters on a 6 × 6 grid (tests/fixtures/small-axes.toml: ξ, η ≤ 1 %,
 /// |φ| ≤ 0.5 1/m, F_N 80–120 kN, V 20–40 m/s, w ≤ 0.2) and its parameter file, built once.
 fn small_table() -> &'static (std::path::PathBuf, std::path::PathBuf) {
     static TABLE: std::sync::OnceLock<(std::path::PathBuf, std::path::PathBuf)> =
@@ -279,9 +279,17 @@ fn small_table() -> &'static (std::path::PathBuf, std::path::PathBuf) {
         let file = tmp("small-table.toml");
         std::fs::write(&file, text).unwrap();
         let dir = tmp("small-table");
-        let mut files =
-            wheelrail::table::build(&params, &wheelrail::table::small_axes(), None, &|| ())
-                .unwrap();
+        let mut files = wheelrail::table::build(
+            &params,
+            &wheelrail::table::Axes::from_toml_file(
+                &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join("../tests/fixtures/small-axes.toml"),
+            )
+            .unwrap(),
+            None,
+            &|| (),
+        )
+        .unwrap();
         files.write(&dir).unwrap();
         (dir, file)
     })

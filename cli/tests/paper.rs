@@ -1,4 +1,4 @@
-//! The paper's qualitative findings (Tomberger et al. 2011, §3; MODEL.md §11) as tests: the direction of every
+//! The paper's qualitative findings (Tomberger et al. 2011, §3; docs/model.md §11) as tests: the direction of every
 //! trend, each on a small configuration (12 × 12 grid, few operating points). Conditions are Table 1 (F_N =
 //! 100 kN, V = 30 m/s, k_r = 0.5, water) unless a test varies them; "water" is a flooded inlet (wetness 1).
 //! docs/paper-comparison.md shows the full figures.

@@ -1,4 +1,4 @@
-//! Fast creep-force laws users compare the model against (MODEL.md §12).
+//! Fast creep-force laws users compare the model against (docs/model.md §12).
 
 pub mod polach;
 

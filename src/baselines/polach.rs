@@ -1,5 +1,5 @@
 //! Polach's closed-form creep-force law with slip-velocity-dependent friction (O. Polach, Wear 258 (2005)
-//! 992–1000; MODEL.md §12).
+//! 992–1000; docs/model.md §12).
 
 use crate::error::{Result, check_finite, check_positive};
 use crate::params::{self, Key, Param};
@@ -17,7 +17,7 @@ pub struct PolachForces {
     pub friction_coefficient: f64,
 }
 
-/// Polach's creep forces (Wear 258, 2005; MODEL.md §12) for semi-axes `a`, `b` [m], normal force
+/// Polach's creep forces (Wear 258, 2005; docs/model.md §12) for semi-axes `a`, `b` [m], normal force
 /// `normal_force` [N], shear modulus `shear_modulus` [Pa], Kalker's coefficients `k`, creepages `creep` and
 /// rolling speed `speed` [m/s]:
 /// - s = sqrt(ξ² + η²), slip velocity w = s·V, μ = μ0·[(1 − A)·e^(−B·w) + A];

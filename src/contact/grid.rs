@@ -1,4 +1,4 @@
-//! The rectangular contact grid (paper Fig. 2, MODEL.md §2): n × m cells over [−a, a] × [−b, b]; cells whose
+//! The rectangular contact grid (paper Fig. 2, docs/model.md §2): n × m cells over [−a, a] × [−b, b]; cells whose
 //! centre lies inside the ellipse take part.
 
 use super::hertz::HertzContact;

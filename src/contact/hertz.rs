@@ -1,4 +1,4 @@
-//! Hertz solution for the elliptic contact of two bodies from their relative curvatures (MODEL.md §2).
+//! Hertz solution for the elliptic contact of two bodies from their relative curvatures (docs/model.md §2).
 
 use crate::error::{Error, Result, Stage, check_positive};
 use std::f64::consts::PI;
@@ -42,7 +42,7 @@ pub struct HertzContact {
     pub normal_force: f64,
 }
 
-/// Ratio A_l/A_s of the curvatures as a function of the eccentricity e (MODEL.md §2).
+/// Ratio A_l/A_s of the curvatures as a function of the eccentricity e (docs/model.md §2).
 fn curvature_ratio(e: f64) -> f64 {
     let (k, ee) = complete_elliptic_integrals(e);
     (ee / (1.0 - e * e) - k) / (k - ee)
@@ -50,7 +50,7 @@ fn curvature_ratio(e: f64) -> f64 {
 
 impl HertzContact {
     /// Hertz contact for curvatures A (along x) and B (along y) [1/m], normal force F_N [N] and composite
-    /// modulus E* [Pa] (MODEL.md §2): solves (E/(1−e²) − K)/(K − E) = A_l/A_s for e, then
+    /// modulus E* [Pa] (docs/model.md §2): solves (E/(1−e²) − K)/(K − E) = A_l/A_s for e, then
     /// m³ = 3F_N(K − E)/(2π E* e² A_s), n = m·sqrt(1 − e²), p0 = 3F_N/(2π m n), δ = 3F_N K/(2π E* m).
     pub fn from_curvatures(
         curv_x: f64,

@@ -1,4 +1,4 @@
-//! Heights of one fluid cell (paper eqs. P7–P11, P15; MODEL.md §8): base height, cell height, equivalent
+//! Heights of one fluid cell (paper eqs. P7–P11, P15; docs/model.md §8): base height, cell height, equivalent
 //! metallic volume height and the void height open to the fluid.
 
 use std::f64::consts::{PI, SQRT_2};

@@ -1,5 +1,5 @@
 //! Mass-conserving film solve with cavitation/boundary-lubrication complementarity (paper eqs. P12–P17,
-//! MODEL.md §8).
+//! docs/model.md §8).
 //!
 //! Per cell the unknown is the separation d ≥ d_dry (d_dry: the separation at which the asperities alone
 //! carry p_n). The compatibility condition P17, p_f·(1 − A_m/A_n) + p_m·A_m/A_n = p_n, turns d into the
@@ -61,7 +61,7 @@ use crate::fluid::band::Band;
 use crate::materials::MaterialState;
 use crate::microcontact::Microcontact;
 
-/// Lubrication regime of a cell (MODEL.md §8).
+/// Lubrication regime of a cell (docs/model.md §8).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Regime {
@@ -395,7 +395,7 @@ impl<'a> System<'a> {
         self.faces.len()
     }
 
-    /// Full state of cell k at separation d (P17 for p_f, P8–P11 for l_v, MODEL.md §4 for the asperities).
+    /// Full state of cell k at separation d (P17 for p_f, P8–P11 for l_v, docs/model.md §4 for the asperities).
     fn full(&self, k: usize, d: f64) -> Full {
         let pr = self.pr;
         let m = pr.micro.evaluate(d, &pr.materials[k]);

@@ -1,4 +1,4 @@
-//! Interfacial fluid (paper §2.5, MODEL.md §8): cell geometry from the roughness statistics and the
+//! Interfacial fluid (paper §2.5, docs/model.md §8): cell geometry from the roughness statistics and the
 //! mass-conserving boundary/mixed-lubrication film solve.
 
 mod band;

@@ -1,4 +1,4 @@
-//! Dimensionless Greenwood–Williamson integrals with the Zhao–Maietta–Chang asperity law (MODEL.md §4).
+//! Dimensionless Greenwood–Williamson integrals with the Zhao–Maietta–Chang asperity law (docs/model.md §4).
 //!
 //! Heights, separation and interference are scaled by z_s: s = z/z_s, h = d/z_s, u = ω/z_s = s − h,
 //! c = ω_c/z_s, c_p = ω_p/z_s = 54·c. With φ0 the standard normal density (P4 with z_s = 1),

@@ -1,4 +1,4 @@
-//! Tabulated dimensionless Greenwood–Williamson/ZMC integrals 𝒫(h, c), 𝒜(h, c) (MODEL.md §4; definitions
+//! Tabulated dimensionless Greenwood–Williamson/ZMC integrals 𝒫(h, c), 𝒜(h, c) (docs/model.md §4; definitions
 //! in `gw`): a fast replacement of the direct quadrature for the ranges the model reaches.
 //!
 //! For a fixed K = 0.454 + 0.41ν the integrals depend on h = d/z_s and c = ω_c/z_s only. Both are analytic
@@ -39,7 +39,7 @@ const H_STEP: f64 = 0.125;
 const BLOCK_INTERVALS: usize = 32;
 /// Blocks per column: h = H_MIN … H_ZERO (the last block reaches beyond H_ZERO).
 const BLOCKS: usize = (((H_ZERO - H_MIN) / H_STEP) as usize).div_ceil(BLOCK_INTERVALS);
-/// Tabulated range of c = ω_c/z_s (MODEL.md defaults reach 0.007 … 3.5 for 200 K ≤ T ≤ 1800 K, 0 ≤ k_r ≤ 1).
+/// Tabulated range of c = ω_c/z_s (the defaults of docs/model.md reach 0.007 … 3.5 for 200 K ≤ T ≤ 1800 K, 0 ≤ k_r ≤ 1).
 pub const C_RANGE: (f64, f64) = (2e-3, 10.0);
 /// Grid step in ln c.
 const LN_C_STEP: f64 = 0.02;
@@ -449,7 +449,7 @@ mod tests {
     fn elastic_limit_gives_the_reference_integrals() {
         // c = 10: every asperity in the Gaussian window is elastic for h ≥ −2, 𝒜 = F1, 𝒫 = (4/3)·F_1.5
         let stencil = GwTable::for_k(K).stencil(10.0).unwrap();
-        // MODEL.md §4: F1.5 at h = 0..3
+        // docs/model.md §4: F1.5 at h = 0..3
         for (h, f15) in [
             (0.0, 0.43002),
             (1.0, 0.075668),

@@ -1,5 +1,5 @@
 //! Microcontact: Greenwood–Williamson asperity statistics with the Zhao–Maietta–Chang single-asperity law
-//! (MODEL.md §4; paper eqs. (P4), (P5)).
+//! (docs/model.md §4; paper eqs. (P4), (P5)).
 //!
 //! The two rough surfaces are replaced by one equivalent rough surface against a rigid flat: asperity
 //! summits of radius R_a, heights z ~ N(0, z_s²) (P4), areal density η_s. At separation d (mean summit
@@ -41,7 +41,7 @@ const MAX_ITERATIONS: usize = 100;
 /// Largest |ln(load/target)| at which the last Newton step is taken without a further evaluation.
 const TERMINAL_RESIDUAL: f64 = 1e-7;
 
-/// Asperity statistics of the equivalent rough surface (MODEL.md §4).
+/// Asperity statistics of the equivalent rough surface (docs/model.md §4).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Surface {
     /// Standard deviation of the summit heights z_s [m].
@@ -53,7 +53,7 @@ pub struct Surface {
 }
 
 impl Surface {
-    /// The surface of a roughness parameter set (MODEL.md §4 mapping of k_r).
+    /// The surface of a roughness parameter set (docs/model.md §4 mapping of k_r).
     pub fn from_roughness(r: &Roughness) -> Self {
         Self {
             z_s: r.z_s(),
@@ -68,7 +68,7 @@ impl Surface {
     }
 }
 
-/// Fraction of asperities in contact at separation d [m]: ψ(d) = ½·erfc(d/(√2·z_s)) (P5; MODEL.md §4, §8
+/// Fraction of asperities in contact at separation d [m]: ψ(d) = ½·erfc(d/(√2·z_s)) (P5; docs/model.md §4, §8
 /// where ψ(z) is also the metallic surface fraction at height z, P9).
 pub fn contact_probability(d: f64, z_s: f64) -> f64 {
     gw::upper_tail(d / z_s)
@@ -79,13 +79,13 @@ pub fn zmc_k(poisson: f64) -> f64 {
     0.454 + 0.41 * poisson
 }
 
-/// Critical interference at the onset of yield ω_c = (π·K·H/(2E*))²·R_a [m] (ZMC; MODEL.md §4).
+/// Critical interference at the onset of yield ω_c = (π·K·H/(2E*))²·R_a [m] (ZMC; docs/model.md §4).
 pub fn critical_interference(r_a: f64, e_star: f64, hardness: f64, poisson: f64) -> f64 {
     let x = PI * zmc_k(poisson) * hardness / (2.0 * e_star);
     x * x * r_a
 }
 
-/// Single-asperity Zhao–Maietta–Chang law (Zhao, Maietta & Chang, J. Tribol. 122 (2000); MODEL.md §4):
+/// Single-asperity Zhao–Maietta–Chang law (Zhao, Maietta & Chang, J. Tribol. 122 (2000); docs/model.md §4):
 /// contact area A [m²] and load P [N] of a summit of radius `r_a` [m] at interference `omega` [m], composite
 /// modulus `e_star` [Pa], hardness [Pa], Poisson's ratio.
 /// - elastic, ω ≤ ω_c: A = π·R_a·ω, P = (4/3)·E*·sqrt(R_a)·ω^1.5;
@@ -258,7 +258,7 @@ impl Microcontact {
         }
     }
 
-    /// A_m/A_n and p_m·A_m/A_n (MODEL.md §4, GW integrals with the ZMC law) and their derivatives with
+    /// A_m/A_n and p_m·A_m/A_n (docs/model.md §4, GW integrals with the ZMC law) and their derivatives with
     /// respect to d, at separation `d` [m] for the material at the local temperature (E*, H, ν > 0 as
     /// given by `Material::at`). `d` must be finite (NaN propagates); for d ≥ 38.5·z_s all results are 0.
     /// Inside the table (2e−3 ≤ ω_c/z_s ≤ 10, −10 ≤ d/z_s < 38.5) interpolated: relative accuracy ≤ 5e−10
@@ -497,7 +497,7 @@ mod tests {
 
     #[test]
     fn reference_integrals_match_model_md() {
-        // MODEL.md §4: F1 and F1.5 at h = 0..3
+        // docs/model.md §4: F1 and F1.5 at h = 0..3
         let f1_ref = [0.39894, 0.083315, 8.4907e-3, 3.8215e-4];
         let f15_ref = [0.43002, 0.075668, 6.6482e-3, 2.6397e-4];
         let table = table::ReferenceIntegral::f15();
@@ -556,7 +556,7 @@ mod tests {
     fn contact_probability_values() {
         let z_s = 1e-6;
         assert!((contact_probability(0.0, z_s) - 0.5).abs() < 1e-15);
-        // MODEL.md §8: ψ_b = 0.9995 at d_b = −3.2905·z_s
+        // docs/model.md §8: ψ_b = 0.9995 at d_b = −3.2905·z_s
         assert!((contact_probability(-3.2905 * z_s, z_s) - 0.9995).abs() < 1e-6);
         assert!((contact_probability(1.0 * z_s, z_s) - 0.158_655_253_931_457).abs() < 1e-12);
     }
@@ -754,7 +754,7 @@ mod tests {
         );
     }
 
-    /// MODEL.md §4 calibration: saturated dry traction Σ σ_y·(A_m/A_n)(p_n)·dA / F_N over the parabolic
+    /// docs/model.md §4 calibration: saturated dry traction Σ σ_y·(A_m/A_n)(p_n)·dA / F_N over the parabolic
     /// pressure of the 100 kN default contact, and d/z_s at the centre at 200 kN.
     fn saturated_traction(k_r: f64, force: f64) -> (f64, f64) {
         let m = room();

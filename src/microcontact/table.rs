@@ -1,5 +1,5 @@
 //! Precomputed reference integral F_1.5(h) = ∫_h^∞ (s − h)^1.5·φ0(s) ds of the standard normal density
-//! (MODEL.md §4), the elastic Greenwood–Williamson load integral, tabulated once per process.
+//! (docs/model.md §4), the elastic Greenwood–Williamson load integral, tabulated once per process.
 
 use super::gw::{H_ZERO, phi0};
 use crate::quadrature::gauss_legendre::GaussLegendre;

@@ -1,6 +1,6 @@
-//! The parameter set of the model (MODEL.md §2–8, 12) and the operating point.
+//! The parameter set of the model (docs/model.md §2–8, 12) and the operating point.
 //!
-//! Every default is the MODEL.md value or project default; every field is a TOML key. The names, units,
+//! Every default is the value of docs/model.md or a documented project default; every field is a TOML key. The names, units,
 //! allowed ranges and defaults of the scalar parameters and inputs are the rows of [`spec`]. A parameter
 //! set is validated by [`Params::validate`] (called by [`Params::from_toml_str`] and by the solver), whose
 //! error carries the offending row's [`Key`] and its allowed range.
@@ -14,7 +14,7 @@ pub use spec::{Input, Key, Param};
 /// Kelvin offset of the Celsius scale.
 pub const CELSIUS_ZERO: f64 = 273.15;
 
-/// Contact geometry: curvatures of the undeformed gap h = A·x² + B·y² (MODEL.md §2), or prescribed semi-axes.
+/// Contact geometry: curvatures of the undeformed gap h = A·x² + B·y² (docs/model.md §2), or prescribed semi-axes.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Geometry {
@@ -37,7 +37,7 @@ impl Default for Geometry {
     }
 }
 
-/// Temperature-dependent steel of wheel and rail (identical bodies; MODEL.md §3).
+/// Temperature-dependent steel of wheel and rail (identical bodies; docs/model.md §3).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Material {
@@ -104,13 +104,13 @@ impl Default for Material {
     }
 }
 
-/// Surface roughness: the roughness parameter k_r and its mapping to GW parameters (MODEL.md §4).
+/// Surface roughness: the roughness parameter k_r and its mapping to GW parameters (docs/model.md §4).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Roughness {
     /// Roughness parameter k_r ∈ [0, 1]: 0 smooth, 1 rough.
     pub k_r: f64,
-    /// z_s at k_r = 0 [m]. Project default 2.5 µm (recalibrated from MODEL.md's 0.5 µm for the fluid model,
+    /// z_s at k_r = 0 [m]. Project default 2.5 µm (recalibrated from the first guess 0.5 µm of docs/model.md §4.4 for the fluid model,
     /// see docs/calibration.md; dry friction depends only on z_s/R_a and β, not on z_s).
     pub z_s_smooth: f64,
     /// Increase of z_s from k_r = 0 to k_r = 1 [m].
@@ -137,7 +137,7 @@ impl Default for Roughness {
 }
 
 impl Roughness {
-    /// Standard deviation of asperity heights z_s(k_r) [m] (MODEL.md §4, project default mapping).
+    /// Standard deviation of asperity heights z_s(k_r) [m] (docs/model.md §4, project default mapping).
     pub fn z_s(&self) -> f64 {
         self.z_s_smooth + self.z_s_span * self.k_r
     }
@@ -160,7 +160,7 @@ pub enum FrictionLaw {
     Tomberger,
     /// Classic FASTSIM with constant μ: τ_l = μ·p_n; temperature computed and reported only.
     Constant,
-    /// Polach (2005) closed-form creep forces (MODEL.md §12).
+    /// Polach (2005) closed-form creep forces (docs/model.md §12).
     Polach,
 }
 
@@ -202,7 +202,7 @@ impl Default for Polach {
     }
 }
 
-/// Local friction (MODEL.md §5) and the choice of law.
+/// Local friction (docs/model.md §5) and the choice of law.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Friction {
@@ -227,7 +227,7 @@ impl Default for Friction {
     }
 }
 
-/// Interfacial fluid (MODEL.md §8, paper Table 1).
+/// Interfacial fluid (docs/model.md §8, paper Table 1).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Fluid {
@@ -255,7 +255,7 @@ impl Default for Fluid {
     }
 }
 
-/// Discretisation of the contact ellipse (MODEL.md §2).
+/// Discretisation of the contact ellipse (docs/model.md §2).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct GridParams {
@@ -274,7 +274,7 @@ impl Default for GridParams {
     }
 }
 
-/// Coupled fixed-point iteration (MODEL.md §9).
+/// Coupled fixed-point iteration (docs/model.md §9).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SolverParams {

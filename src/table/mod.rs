@@ -675,6 +675,7 @@ pub(crate) fn synthetic(
 }
 
 /// Axes with explicit points per dimension (ξ, η, φ, F_N, V, w), ξ mirrored (stored ξ ≥ 0).
+#[cfg(test)]
 fn explicit_axes(points: [&[f64]; DIMS]) -> Axes {
     let spec = |d: usize| {
         Some(AxisSpec {
@@ -694,19 +695,13 @@ fn explicit_axes(points: [&[f64]; DIMS]) -> Axes {
     .expect("valid axes")
 }
 
-/// A small table's axes around the default operating point (3·3·4·2·2·2 = 288 points: |ξ|, η ≤ 1 %,
-/// |φ| ≤ 0.5 1/m, F_N 80–120 kN, V 20–40 m/s, w ≤ 0.2), built in about a second on a coarse grid: for
-/// examples, tests and benchmarks of table evaluation (the lookup cost does not depend on the table's size
-/// or grid).
-pub fn small_axes() -> Axes {
-    explicit_axes([
-        &[0.0, 0.002, 0.01],
-        &[0.0, 0.002, 0.01],
-        &[-0.5, -0.1, 0.1, 0.5],
-        &[80e3, 120e3],
-        &[20.0, 40.0],
-        &[0.0, 0.2],
-    ])
+/// The axes of the small test table `tests/fixtures/small-axes.toml` (288 points around the default
+/// operating point), which the FMU's and the command line's tests and benchmarks read from the file.
+#[cfg(test)]
+pub(crate) fn small_axes() -> Axes {
+    let spec: AxesSpec = toml::from_str(include_str!("../../tests/fixtures/small-axes.toml"))
+        .expect("the fixture is an axes file");
+    Axes::from_spec(&spec).expect("valid axes")
 }
 
 /// The default parameters on a coarse 6 × 6 grid: a table over [`tiny_axes`] builds in a fraction of a

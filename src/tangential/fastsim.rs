@@ -1,5 +1,5 @@
 //! FASTSIM (Kalker, Vehicle System Dynamics 11, 1982) with a locally varying adhesion limit τ_l per cell
-//! (paper §2.4, MODEL.md §6).
+//! (paper §2.4, docs/model.md §6).
 
 use super::kalker::KalkerCoefficients;
 use crate::contact::ContactGrid;
@@ -7,7 +7,7 @@ use crate::error::{Error, Result, check_finite, check_positive};
 use std::f64::consts::PI;
 
 /// Flexibilities of Kalker's simplified theory (displacement per traction) [m/Pa], chosen so that the
-/// simplified theory reproduces Kalker's linear creep law (MODEL.md §6, Kalker 1982):
+/// simplified theory reproduces Kalker's linear creep law (docs/model.md §6, Kalker 1982):
 /// L1 = 8a/(3·G·C11), L2 = 8a/(3·G·C22), L3 = π·a²/(4·G·c·C23), c = sqrt(a·b).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Flexibilities {
@@ -21,7 +21,7 @@ pub struct Flexibilities {
 
 impl Flexibilities {
     /// Flexibilities for semi-axes `a`, `b` [m], shear modulus `shear_modulus` [Pa] and Kalker's
-    /// coefficients `k` (MODEL.md §6).
+    /// coefficients `k` (docs/model.md §6).
     pub fn new(a: f64, b: f64, shear_modulus: f64, k: &KalkerCoefficients) -> Self {
         let c = (a * b).sqrt();
         Self {
@@ -32,7 +32,7 @@ impl Flexibilities {
     }
 
     /// Combined flexibility L = (|ξ|·L1 + |η|·L2 + c·|φ|·L3)/sqrt(ξ² + η² + c²·φ²) [m/Pa] that converts the
-    /// traction excess of a slipping cell into slip (MODEL.md §6); exact for a single creepage. Zero when
+    /// traction excess of a slipping cell into slip (docs/model.md §6); exact for a single creepage. Zero when
     /// all creepages vanish (no cell can slip then).
     pub fn combined(&self, creep: Creepages, c: f64) -> f64 {
         let norm = (creep.xi * creep.xi + creep.eta * creep.eta + (c * creep.phi).powi(2)).sqrt();
@@ -45,7 +45,7 @@ impl Flexibilities {
     }
 }
 
-/// Kalker's creepages (MODEL.md §1): the rigid slip of the wheel relative to the rail at (x, y) is
+/// Kalker's creepages (docs/model.md §1): the rigid slip of the wheel relative to the rail at (x, y) is
 /// V·(ξ − φ·y, η + φ·x).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Creepages {
@@ -59,7 +59,7 @@ pub struct Creepages {
 
 /// Result of [`fastsim`]: resultants and per-cell fields (cells in [`ContactGrid::cells`] order).
 ///
-/// Sign convention (Kalker, MODEL.md §1): tractions and forces act on the wheel and oppose the rigid slip,
+/// Sign convention (Kalker, docs/model.md §1): tractions and forces act on the wheel and oppose the rigid slip,
 /// e.g. F_x = −G·c²·C11·ξ in the linear limit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TractionField {
@@ -81,13 +81,13 @@ pub struct TractionField {
 }
 
 impl TractionField {
-    /// Total frictional power Σ q·h_x·h_y [W] (the heat source of MODEL.md §7).
+    /// Total frictional power Σ q·h_x·h_y [W] (the heat source of docs/model.md §7).
     pub fn frictional_power(&self, grid: &ContactGrid) -> f64 {
         grid.integrate(&self.power_density)
     }
 }
 
-/// FASTSIM with a locally varying adhesion limit `tau_limit` = τ_l per cell [Pa] (paper §2.4, MODEL.md §6;
+/// FASTSIM with a locally varying adhesion limit `tau_limit` = τ_l per cell [Pa] (paper §2.4, docs/model.md §6;
 /// Kalker 1982). `speed` is the rolling speed V [m/s].
 ///
 /// Every strip of `grid` is marched from zero traction at its leading edge x = +a(y) backwards. The step Δ
@@ -195,7 +195,7 @@ mod tests {
     use crate::contact::HertzContact;
     use crate::tangential::kalker_coefficients;
 
-    // MODEL.md §2 reference contact: F_N = 100 kN, a = 5.879 mm, b = 10.54 mm, steel ν = 0.28.
+    // docs/model.md §2 reference contact: F_N = 100 kN, a = 5.879 mm, b = 10.54 mm, steel ν = 0.28.
     const A: f64 = 5.879e-3;
     const B: f64 = 10.54e-3;
     const FN: f64 = 100e3;
@@ -234,7 +234,7 @@ mod tests {
     }
 
     /// Small creepage reproduces Kalker's linear theory, F_x = −G·c²·C11·ξ, F_y = −G·c²·C22·η and
-    /// F_y = −G·c³·C23·φ (MODEL.md §1, §6).
+    /// F_y = −G·c³·C23·φ (docs/model.md §1, §6).
     #[test]
     fn kalker_linear_limit() {
         let c = case(100, 100);

@@ -1,10 +1,10 @@
 //! Kalker's creepage coefficients C11, C22, C23 (Kalker 1990, *Three-dimensional elastic bodies in rolling
-//! contact*, Table E.3; MODEL.md §6).
+//! contact*, Table E.3; docs/model.md §6).
 
 use crate::error::{Result, check_positive, check_range};
 use std::f64::consts::PI;
 
-/// Kalker's dimensionless creepage coefficients of the linear theory (MODEL.md §6):
+/// Kalker's dimensionless creepage coefficients of the linear theory (docs/model.md §6):
 /// F_x = −G·c²·C11·ξ, F_y = −G·c²·(C22·η + c·C23·φ), c = sqrt(a·b).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct KalkerCoefficients {
@@ -74,7 +74,7 @@ const TABLE_A_GT_B: [Row; 10] = [
 ];
 
 /// Kalker's creepage coefficients for semi-axes `a` (rolling direction) and `b` (lateral) [m] and Poisson's
-/// ratio `poisson` ∈ [0, 0.5] (MODEL.md §6, Kalker 1990 Table E.3).
+/// ratio `poisson` ∈ [0, 0.5] (docs/model.md §6, Kalker 1990 Table E.3).
 ///
 /// Interpolation: linear in g between the table rows, quadratic (Lagrange) in ν through the columns
 /// ν = 0, 0.25, 0.5, so the table nodes are reproduced exactly.
@@ -114,7 +114,7 @@ pub fn kalker_coefficients(a: f64, b: f64, poisson: f64) -> Result<KalkerCoeffic
     })
 }
 
-/// Kalker's asymptotes for a/b = g → 0 (Kalker 1990, Table E.3 footnote; MODEL.md §6).
+/// Kalker's asymptotes for a/b = g → 0 (Kalker 1990, Table E.3 footnote; docs/model.md §6).
 fn slender_asymptotes(g: f64, nu: f64) -> KalkerCoefficients {
     KalkerCoefficients {
         c11: PI * PI / (4.0 * (1.0 - nu)),
@@ -141,7 +141,7 @@ mod tests {
         (a - b).abs() / b.abs()
     }
 
-    /// MODEL.md §6 example values at ν = 0.28.
+    /// docs/model.md §6 example values at ν = 0.28.
     #[test]
     fn model_examples_at_nu_028() {
         let cases = [

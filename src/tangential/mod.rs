@@ -1,4 +1,4 @@
-//! Tangential contact (MODEL.md §6): Kalker's creepage coefficients and FASTSIM with a locally varying
+//! Tangential contact (docs/model.md §6): Kalker's creepage coefficients and FASTSIM with a locally varying
 //! adhesion limit.
 
 pub mod fastsim;

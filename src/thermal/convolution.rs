@@ -1,4 +1,4 @@
-//! Influence matrices applied without forming them (MODEL.md §7: "use the translation invariance"): the
+//! Influence matrices applied without forming them (docs/model.md §7: "use the translation invariance"): the
 //! temperature rise at cell (i, j) is Σ G(i − i', |j − j'|)·q(i', j') over the active cells, a 2-D discrete
 //! convolution of the flux (zero outside the contact) with the offset table of [`InfluenceTable`]. Only the
 //! offsets with a non-zero coefficient are visited, so the cost falls from N² multiply–adds at low Péclet

@@ -1,4 +1,4 @@
-//! Influence coefficients of a half-space moving under the contact (MODEL.md §7, paper §2.3): the surface
+//! Influence coefficients of a half-space moving under the contact (docs/model.md §7, paper §2.3): the surface
 //! temperature rise at a cell centre per unit heat flux density on a source cell.
 //!
 //! The moving point source (Carslaw & Jaeger §10.7, Rosenthal) gives ΔT = Q·exp(−p(r + ζ))/(2πλr) with
@@ -82,7 +82,7 @@ impl MovingHalfSpace {
         self.speed / (2.0 * self.diffusivity)
     }
 
-    /// Quasi-steady surface temperature rise per unit power of a point source, MODEL.md §7 [K/W]:
+    /// Quasi-steady surface temperature rise per unit power of a point source, docs/model.md §7 [K/W]:
     /// exp(−p(r + ζ))/(2πλr), with (ζ, η) = field point − source point [m]; downstream (ζ = −r) points
     /// see exp(0), upstream ones decay like exp(−2p·r).
     pub fn point_source(&self, zeta: f64, eta: f64) -> f64 {
@@ -338,7 +338,7 @@ pub struct InfluenceTable {
 
 impl InfluenceTable {
     /// Coefficients of `body` for every offset of an nx × ny grid of cells h_x × h_y [m]: temperature rise
-    /// at a cell centre per unit flux density [W/m²] on a whole source cell (MODEL.md §7). Each coefficient
+    /// at a cell centre per unit flux density [W/m²] on a whole source cell (docs/model.md §7). Each coefficient
     /// is accurate to 1e-9 of the grid's coefficient scale h/sqrt(1 + p·h)/(2πλ) (h = min(h_x, h_y));
     /// an integral that misses this within its panel budget is an error. Offsets whose rigorous bound is
     /// below 1e-15 of that scale (upstream at high Péclet number, laterally outside the wake) are exactly
@@ -472,7 +472,7 @@ mod tests {
         Material::default()
     }
 
-    /// ∫∫ dA/r over [0, x] × [0, y] for x, y > 0: x·asinh(y/x) + y·asinh(x/y) (MODEL.md §7 quarter).
+    /// ∫∫ dA/r over [0, x] × [0, y] for x, y > 0: x·asinh(y/x) + y·asinh(x/y) (docs/model.md §7 quarter).
     fn quarter_steady(x: f64, y: f64) -> f64 {
         x * (y / x).asinh() + y * (x / y).asinh()
     }
@@ -680,7 +680,7 @@ mod tests {
 
     #[test]
     fn skipping_negligible_offsets_changes_no_coefficient() {
-        // The default Hertz grid (MODEL.md §2, 30 × 30). Reference: every offset integrated by
+        // The default Hertz grid (docs/model.md §2, 30 × 30). Reference: every offset integrated by
         // offset_rectangle with a 1000 times tighter tolerance, whose own negligible cut (1e-6 of its
         // tolerance) lies at 1e-18 of the coefficient scale, far below the table's 1e-15.
         let (a, b) = (5.879e-3, 10.54e-3);

@@ -1,4 +1,4 @@
-//! Macroscopic contact temperature: moving-source influence coefficients and the wheel–rail heat partition (MODEL.md §7, paper §2.3).
+//! Macroscopic contact temperature: moving-source influence coefficients and the wheel–rail heat partition (docs/model.md §7, paper §2.3).
 
 pub mod convolution;
 pub mod expint;

@@ -1,4 +1,4 @@
-//! Heat partition between wheel and rail and the resulting surface temperature (paper §2.3, MODEL.md §7).
+//! Heat partition between wheel and rail and the resulting surface temperature (paper §2.3, docs/model.md §7).
 //!
 //! The frictional power density q of each cell splits into q_w into the wheel and q_r = q − q_w into the
 //! rail such that both surfaces have the same temperature in every cell: G_w·q_w = G_r·(q − q_w), i.e.
@@ -43,7 +43,7 @@ pub struct HeatModel {
     sum: OffsetKernel,
     /// Strip-by-strip inverse of G_w + G_r (the preconditioner).
     strips: StripSolver,
-    /// One-dimensional high-Péclet wheel share sqrt(v_w)/(sqrt(v_w) + sqrt(v_r)) (MODEL.md §7).
+    /// One-dimensional high-Péclet wheel share sqrt(v_w)/(sqrt(v_w) + sqrt(v_r)) (docs/model.md §7).
     share: f64,
     /// Largest estimated quadrature error of an influence coefficient [K·m²/W].
     quadrature_error: f64,
@@ -72,7 +72,7 @@ pub struct HeatSolution {
 impl HeatModel {
     /// `v_wheel`, `v_rail`: surface speeds [m/s] of wheel and rail through the contact (both > 0; each
     /// body moves in −x of the contact frame), `material`: conductivity λ and diffusivity κ of both bodies.
-    /// Tabulates the moving-source influence coefficients of both bodies (MODEL.md §7) and factorises the
+    /// Tabulates the moving-source influence coefficients of both bodies (docs/model.md §7) and factorises the
     /// strip-diagonal part of G_w + G_r.
     pub fn new(grid: &ContactGrid, v_wheel: f64, v_rail: f64, material: &Material) -> Result<Self> {
         if grid.is_empty() {
@@ -155,7 +155,7 @@ impl HeatModel {
     }
 
     /// Heat partition and surface temperature rise for frictional power density `q` per cell [W/m²]:
-    /// solves (G_w + G_r)·q_w = G_r·q, q_r = q − q_w, ΔT = G_w·q_w (paper §2.3, MODEL.md §7), starting
+    /// solves (G_w + G_r)·q_w = G_r·q, q_r = q − q_w, ΔT = G_w·q_w (paper §2.3, docs/model.md §7), starting
     /// from the one-dimensional high-Péclet partition q_w = q·sqrt(v_w)/(sqrt(v_w) + sqrt(v_r)).
     pub fn solve(&self, q: &[f64]) -> Result<HeatSolution> {
         self.check_flux(q)?;
@@ -227,7 +227,7 @@ mod tests {
         Material::default()
     }
 
-    /// The project's default Hertz ellipse (MODEL.md §2).
+    /// The project's default Hertz ellipse (docs/model.md §2).
     fn hertz_grid(n: usize) -> ContactGrid {
         ContactGrid::new(5.879e-3, 10.54e-3, n, n)
     }
@@ -247,7 +247,7 @@ mod tests {
             .collect()
     }
 
-    /// 1-D high-Péclet strip solution (MODEL.md §7) with all heat into one body:
+    /// 1-D high-Péclet strip solution (docs/model.md §7) with all heat into one body:
     /// T(x) = 1/(β_e·sqrt(π·V))·∫_x^a q(x')/sqrt(x' − x) dx', with x' = x + t² removing the singularity.
     fn strip_reference(q: impl Fn(f64) -> f64, x: f64, a: f64, v: f64) -> f64 {
         let m = steel();
@@ -339,7 +339,7 @@ mod tests {
 
     #[test]
     fn peak_factors_converge_to_the_one_dimensional_values() {
-        // T_max = q0·sqrt(a)·I/(β_e·sqrt(πV)), all heat into one body (MODEL.md §7).
+        // T_max = q0·sqrt(a)·I/(β_e·sqrt(πV)), all heat into one body (docs/model.md §7).
         let (a, v, q0): (f64, f64, f64) = (6e-3, 30.0, 1e9);
         let m = steel();
         let unit = q0 * a.sqrt() / (m.effusivity() * (PI * v).sqrt());
@@ -487,7 +487,7 @@ mod tests {
 
     #[test]
     fn fast_partition_matches_the_dense_reference() {
-        // Default Hertz grid (30 × 30, MODEL.md §2), v_w,r = V(1 ± ξ/2) (MODEL.md §1).
+        // Default Hertz grid (30 × 30, docs/model.md §2), v_w,r = V(1 ± ξ/2) (docs/model.md §1).
         let grid = hertz_grid(30);
         for v in [0.1, 1.0, 30.0, 100.0] {
             for xi in [0.0, 0.02, -0.1] {

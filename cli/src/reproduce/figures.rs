@@ -2,8 +2,8 @@
 //!
 //! Conditions are the paper's Table 1 (UIC60/S1002 running surface, Hertz mapped to a parabola, F_N = 100 kN,
 //! V = 30 m/s, k_r = 0.5, water ξ_f = 0.012 Pa·s, k_wet = 0.4, ψ_b = 0.9995) unless a figure varies them.
-//! "Water" is a flooded inlet (wetness 1, MODEL.md §8). The boundary-lubricated ("BL") curves of Figs. 17
-//! and 21 use a film just thick enough to apply k_wet fully (h_f0 = 1.2·h_bl, MODEL.md §5): it fits into
+//! "Water" is a flooded inlet (wetness 1, docs/model.md §8). The boundary-lubricated ("BL") curves of Figs. 17
+//! and 21 use a film just thick enough to apply k_wet fully (h_f0 = 1.2·h_bl, docs/model.md §5): it fits into
 //! the asperity voids, so no fluid pressure builds and the contact stays boundary lubricated (the CSV
 //! reports the mixed-lubrication share to show where it does).
 
@@ -515,7 +515,7 @@ fn fig14(s: &Settings) -> Result<Figure> {
 
 /// Wetness of the boundary-lubricated ("BL") curves of Figs. 17 and 21: inlet film h_f0 = 1.2·h_bl. The film
 /// is carried through the contact at the mean speed, so a cell holds l_f = h_f0·v_r/v_m = h_f0·(1 − ξ/2)
-/// (MODEL.md §8): with 1.2·h_bl every cell keeps l_f ≥ h_bl, hence the full k_wet (MODEL.md §5), up to
+/// (docs/model.md §8): with 1.2·h_bl every cell keeps l_f ≥ h_bl, hence the full k_wet (docs/model.md §5), up to
 /// ξ = 1/3, while the film is thin enough to fit into the asperity voids of the Table-1 contact, so that no
 /// fluid pressure builds (above about 120 kN some centre cells fill and carry a little pressure).
 pub fn boundary_lubrication_wetness(p: &Params) -> f64 {

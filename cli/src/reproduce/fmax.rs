@@ -1,4 +1,4 @@
-//! The maximum of a traction–creepage curve, f_max (MODEL.md §9: "f_max is its maximum"; the paper's
+//! The maximum of a traction–creepage curve, f_max (docs/model.md §9: "f_max is its maximum"; the paper's
 //! Figs. 16–21 plot it): a coarse, logarithmically spaced creepage sweep finds the bracket of the global
 //! maximum, golden-section search in ln ξ refines it.
 //!
@@ -182,7 +182,7 @@ mod tests {
     use super::*;
     use wheelrail::params::FrictionLaw;
 
-    /// Polach's closed form (MODEL.md §12) is cheap and has a smooth interior maximum in ξ when its
+    /// Polach's closed form (docs/model.md §12) is cheap and has a smooth interior maximum in ξ when its
     /// friction falls with slip velocity: the search must find it to the tolerance, as a dense scan does.
     #[test]
     fn finds_the_interior_maximum_of_a_closed_form_curve() {

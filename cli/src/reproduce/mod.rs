@@ -1,9 +1,9 @@
-//! Reproduction of the paper's computed results (Tomberger et al., Wear 271 (2011), §3; MODEL.md §11):
+//! Reproduction of the paper's computed results (Tomberger et al., Wear 271 (2011), §3; docs/model.md §11):
 //! each of Figs. 5, 7 and 10–21 as data (a table, written as CSV) and a plot (PNG and SVG) with the paper's
 //! axes, legend and units, computed with the exact solver at the paper's conditions (Table 1 unless the
 //! figure says otherwise).
 //!
-//! The paper's material curves and roughness mapping are not published; the project defaults of MODEL.md
+//! The paper's material curves and roughness mapping are not published; the project defaults of docs/model.md
 //! (with the recalibrated z_s(k_r) of `docs/calibration.md`) stand in, so trends are comparable, numbers are
 //! not. `docs/paper-comparison.md` holds each figure against the paper's statement.
 

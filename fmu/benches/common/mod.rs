@@ -2,7 +2,10 @@
 
 /// A table for the FMU's default parameters on a 6 × 6 grid (288 points).
 pub fn small_table() -> std::path::PathBuf {
-    let axes = wheelrail::table::small_axes();
+    let axes = wheelrail::table::Axes::from_toml_file(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/small-axes.toml"),
+    )
+    .unwrap();
     let mut params = wheelrail::Params::default();
     params.grid.nx = 6;
     params.grid.ny = 6;

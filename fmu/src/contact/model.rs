@@ -567,7 +567,11 @@ mod tests {
         use std::sync::OnceLock;
         static DIR: OnceLock<PathBuf> = OnceLock::new();
         DIR.get_or_init(|| {
-            let axes = wheelrail::table::small_axes();
+            let axes = wheelrail::table::Axes::from_toml_file(
+                &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join("../tests/fixtures/small-axes.toml"),
+            )
+            .unwrap();
             let mut v = Values::start(&VARIABLES);
             v.set(GRID_SIZE, Value::Integer(6));
             let params = WheelRailModel::params(&v).unwrap();

@@ -5,7 +5,7 @@
 //! parameters, description); the FMU adds its own variables (outputs, `grid_size`, `mode`, `table_file`,
 //! `minimum_speed`, `warm_start`) and its inputs' conventions (ranges, nominal values, descriptions).
 //!
-//! Frame and signs (MODEL.md §1): x along the track in the direction of travel for positive
+//! Frame and signs (docs/model.md §1): x along the track in the direction of travel for positive
 //! `rolling_speed`, y lateral, z normal into the rail. Creepages are the rigid slip velocity of the wheel
 //! relative to the rail divided by |V|: w = |V|·(ξ − φ·y, η + φ·x). Forces act on the wheel and follow
 //! Kalker's convention (they oppose the slip: F_x = −G·c²·C11·ξ in the linear range).
