@@ -1,7 +1,8 @@
-//! `wheelrail table`: build, merge, verify and describe lookup tables (issue 5), and the JSON of a point
+//! `wheelrail table`: build, merge, verify and describe lookup tables (issue 5), write Slurm array jobs
+//! of sharded builds (issue 13), and the JSON of a point
 //! evaluated by table (`wheelrail point --table DIR`, [`point_json`]).
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -10,6 +11,7 @@ use wheelrail::table::file::{ShardRecord, TableFiles};
 use wheelrail::table::verify::{self, TARGET_MAX, TARGET_P99, VerifyReport};
 use wheelrail::table::{self, Axes, DIMENSIONS, Table, TableOutput};
 use wheelrail::{OperatingPoint, Params};
+use wheelrail_cli::slurm::{self, SlurmJob};
 
 /// Arguments of `wheelrail table`.
 #[derive(Debug, Args)]
@@ -29,6 +31,9 @@ enum TableCommand {
     Verify(VerifyArgs),
     /// Describe a table or shard: format, model version, parameters, axes, build.
     Info(InfoArgs),
+    /// Write a Slurm array job that builds the table in N shards (OUT/build.sbatch), the job that merges
+    /// and verifies them (OUT/merge.sbatch) and OUT/submit.sh, which submits both.
+    Slurm(SlurmArgs),
 }
 
 #[derive(Debug, Args)]
@@ -47,6 +52,38 @@ struct BuildArgs {
     /// cluster array job; join the parts with `wheelrail table merge`.
     #[arg(long, value_name = "K/N")]
     shard: Option<String>,
+}
+
+#[derive(Debug, Args)]
+struct SlurmArgs {
+    /// Number of shards N (array tasks 1..N; at most the number of ξ lines).
+    #[arg(long, value_name = "N")]
+    shards: usize,
+    /// Job directory on a file system the compute nodes share: the scripts, logs/, shards/K and the merged
+    /// table/.
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Parameter file (TOML) of every shard [default: the default parameter set].
+    #[arg(long, value_name = "FILE.toml")]
+    params: Option<PathBuf>,
+    /// Axes file (TOML) of every shard [default: the built-in axes].
+    #[arg(long, value_name = "FILE.toml")]
+    axes: Option<PathBuf>,
+    /// CPUs per array task, also each build's worker threads (RAYON_NUM_THREADS).
+    #[arg(long, value_name = "C", default_value_t = 1)]
+    cpus_per_task: usize,
+    /// Time limit per task (sbatch --time) [default: the partition's].
+    #[arg(long, value_name = "HH:MM:SS")]
+    time: Option<String>,
+    /// Partition (sbatch --partition) [default: the cluster's].
+    #[arg(long, value_name = "P")]
+    partition: Option<String>,
+    /// The wheelrail executable the tasks run [default: this one].
+    #[arg(long, value_name = "PATH")]
+    wheelrail: Option<PathBuf>,
+    /// Sample points of `table verify` after the merge (0: merge only).
+    #[arg(long, value_name = "N", default_value_t = 2000)]
+    verify_samples: usize,
 }
 
 #[derive(Debug, Args)]
@@ -86,6 +123,7 @@ pub fn run(a: &TableArgs) -> Result<()> {
         TableCommand::Merge(m) => merge(m),
         TableCommand::Verify(v) => run_verify(v),
         TableCommand::Info(i) => info(&i.dir),
+        TableCommand::Slurm(s) => slurm(s),
     }
 }
 
@@ -185,6 +223,94 @@ fn merge(a: &MergeArgs) -> Result<()> {
     let mut files = table::merge(shards)?;
     files.write(&a.out)?;
     report_written(&a.out, &files);
+    Ok(())
+}
+
+/// The absolute path of an existing file or directory (the tasks of a cluster job run elsewhere).
+fn canonical(what: &str, p: &Path) -> Result<PathBuf> {
+    std::fs::canonicalize(p).with_context(|| format!("{what} {}", p.display()))
+}
+
+fn slurm(a: &SlurmArgs) -> Result<()> {
+    // read the inputs now, so that a bad file fails here and not in every array task
+    if let Some(p) = &a.params {
+        Params::from_toml_file(p)?;
+    }
+    let axes = match &a.axes {
+        Some(p) => Axes::from_toml_file(p)?,
+        None => Axes::default(),
+    };
+    let lines = table::file::line_stride(&axes);
+    if a.shards == 0 || a.shards > lines {
+        bail!(wheelrail::Error::out_of_range(
+            "shards",
+            a.shards as f64,
+            &format!(
+                "1 ..= {lines} (the number of xi lines of the axes; a shard holds whole lines)"
+            ),
+        ));
+    }
+    let wheelrail = match &a.wheelrail {
+        Some(p) => canonical("wheelrail executable", p)?,
+        None => std::env::current_exe().context("locating the wheelrail executable")?,
+    };
+    std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
+    let job = SlurmJob {
+        wheelrail,
+        out: canonical("output directory", &a.out)?,
+        params: a
+            .params
+            .as_deref()
+            .map(|p| canonical("parameter file", p))
+            .transpose()?,
+        axes: a
+            .axes
+            .as_deref()
+            .map(|p| canonical("axes file", p))
+            .transpose()?,
+        shards: a.shards,
+        cpus_per_task: a.cpus_per_task,
+        time: a.time.clone(),
+        partition: a.partition.clone(),
+        verify_samples: a.verify_samples,
+    };
+    let [build, merge, submit] = job.write()?;
+    let largest = table::file::shard_len(
+        &axes,
+        ShardRecord {
+            index: 1,
+            count: a.shards,
+        },
+    );
+    eprintln!(
+        "{} points ({}) in {} shards of at most {largest} points, {} CPUs per task",
+        axes.len(),
+        shape_text(&axes),
+        a.shards,
+        a.cpus_per_task
+    );
+    println!(
+        "wrote {}, {} and {}",
+        build.display(),
+        merge.display(),
+        submit.display()
+    );
+    println!("submit both (the merge runs once every array task succeeded):");
+    println!("  {}", submit.display());
+    println!("or step by step:");
+    println!(
+        "  sbatch {}            # array job: shards/1 .. shards/{}",
+        build.display(),
+        a.shards
+    );
+    println!(
+        "  sbatch --dependency=afterok:<array job id> {}",
+        merge.display()
+    );
+    println!(
+        "the merged table: {}",
+        job.out.join(slurm::TABLE_DIR).display()
+    );
     Ok(())
 }
 
