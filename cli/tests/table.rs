@@ -540,3 +540,59 @@ fn the_bundled_default_table_agrees_with_the_exact_solver() {
         report.force.max
     );
 }
+
+/// `table slurm` writes scripts whose tasks, run as Slurm runs them (`SLURM_ARRAY_TASK_ID` = 1..N, from
+/// another working directory), build the shards and merge them to the one-process table: relative paths
+/// become absolute, paths with spaces and quotes survive. `tools/slurm-test.sh` submits them to a real Slurm.
+#[test]
+fn slurm_scripts_run_task_by_task_merge_to_the_one_process_table() {
+    let (params, axes) = files("slurm it's", SMALL_GRID, SMALL_AXES);
+    let job = tmp("slurm job dir");
+    let dir = job.parent().unwrap();
+    let name = |p: &Path| p.file_name().unwrap().to_str().unwrap().to_string();
+    let generate = |shards: &str| {
+        Command::new(env!("CARGO_BIN_EXE_wheelrail"))
+            .current_dir(dir)
+            .args(["table", "slurm", "--shards", shards, "--out", &name(&job)])
+            .args(["--params", &name(&params), "--axes", &name(&axes)])
+            .args(["--cpus-per-task", "2", "--verify-samples", "0"])
+            .output()
+            .unwrap()
+    };
+    // 3·4·2·2·2 = 96 ξ lines: at most 96 shards
+    let o = generate("97");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("1 ..= 96"));
+    let out = ok(&generate("3"));
+    assert!(out.contains("submit.sh"), "{out}");
+    let script = std::fs::read_to_string(job.join("build.sbatch")).unwrap();
+    for line in [
+        "#SBATCH --array=1-3\n".to_string(),
+        "#SBATCH --cpus-per-task=2\n".to_string(),
+        format!("OUT='{}'\n", s(&job)),
+        format!("PARAMS='{}'\n", s(&params).replace('\'', r"'\''")),
+        format!("AXES='{}'\n", s(&axes).replace('\'', r"'\''")),
+    ] {
+        assert!(script.contains(&line), "missing {line:?} in\n{script}");
+    }
+    let run = |file: &str, task: Option<usize>| {
+        let mut c = Command::new("bash");
+        c.arg(job.join(file))
+            .current_dir("/")
+            .env("SLURM_CPUS_PER_TASK", "1");
+        if let Some(k) = task {
+            c.env("SLURM_ARRAY_TASK_ID", k.to_string());
+        }
+        ok(&c.output().unwrap());
+    };
+    for k in 1..=3 {
+        run("build.sbatch", Some(k));
+    }
+    run("merge.sbatch", None);
+    let one = tmp("slurm-one");
+    build(&params, &axes, &one, &[], "2");
+    assert_eq!(array_files(&job.join("table")), array_files(&one));
+    assert_eq!(sidecar(&job.join("shards/2"))["shard"]["index"], 2);
+    assert_eq!(sidecar(&job.join("table"))["build"]["merged_shards"], 3);
+    cleanup("slurm");
+}
