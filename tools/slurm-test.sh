@@ -45,10 +45,23 @@ if [ "$missing" = 1 ]; then
     command -v apt-get >/dev/null || fail "Slurm is not installed and there is no apt-get: install slurmctld slurmd slurm-client munge, or set WHEELRAIL_SKIP_SLURM=1 to skip this test"
     echo "slurm-test: installing slurmctld slurmd slurm-client munge"
     pkgs=(slurmctld slurmd slurm-client munge)
-    export DEBIAN_FRONTEND=noninteractive
-    apt-get install -y -q --no-install-recommends "${pkgs[@]}" >/dev/null ||
-        { apt-get update -q >/dev/null && apt-get install -y -q --no-install-recommends "${pkgs[@]}" >/dev/null; } ||
+    apt_log=$(mktemp /tmp/wheelrail-slurm-apt.XXXXXX)
+    # the packages' own services stay stopped (policy-rc.d 101: this test starts its own daemons)
+    if ! (
+        if [ ! -e /usr/sbin/policy-rc.d ]; then
+            trap 'rm -f /usr/sbin/policy-rc.d' EXIT
+            printf '#!/bin/sh\nexit 101\n' >/usr/sbin/policy-rc.d
+            chmod 755 /usr/sbin/policy-rc.d
+        fi
+        export DEBIAN_FRONTEND=noninteractive
+        apt-get install -y -q --no-install-recommends "${pkgs[@]}" ||
+            { apt-get update -q && apt-get install -y -q --no-install-recommends "${pkgs[@]}"; }
+    ) >"$apt_log" 2>&1; then
+        tail -n 20 "$apt_log" >&2
+        rm -f "$apt_log"
         fail "apt-get could not install ${pkgs[*]}; install them by hand or set WHEELRAIL_SKIP_SLURM=1 to skip this test"
+    fi
+    rm -f "$apt_log"
 fi
 install_time=$(since "$t_install")
 [ "$(id -u)" = 0 ] || fail "the test cluster runs its daemons as root (SlurmUser=root); run as root or set WHEELRAIL_SKIP_SLURM=1 to skip this test"
