@@ -198,6 +198,11 @@ impl Warned {
                         Fallback::OutsideRanges => {
                             "an operating point lies outside the lookup table's ranges".into()
                         }
+                        Fallback::OtherGeometry => format!(
+                            "the contact geometry (curvature_longitudinal, curvature_lateral, semi_axis_a, \
+                             semi_axis_b) differs from the one the lookup table at {} was built for",
+                            table.map_or("<none>".into(), Table::location)
+                        ),
                     };
                     format!(
                         "mode 0 (auto): {why}; the exact solver evaluates such points (warned once)"
