@@ -757,6 +757,131 @@ mod tests {
     }
 
     #[test]
+    fn geometry_inputs_change_every_step_and_leave_the_table_for_another_geometry() {
+        let (log, seen) = capturing(false);
+        let mut m = WheelRailModel::new(None);
+        let mut v = with_table(0);
+        // cold exact solves: bit for bit the library's
+        v.set(WARM_START, Value::Boolean(false));
+        let default_contact = |v: &Values| {
+            [CONTACT_SEMI_AXIS_A, CONTACT_SEMI_AXIS_B, PEAK_PRESSURE].map(|i| v.real(i))
+        };
+        m.calculate(&mut v, &log).unwrap();
+        assert_eq!(v.integer(EVALUATION_MODE), 1);
+        assert!(v.real(FRICTIONAL_POWER).is_nan());
+        let by_table = (outputs(&v), default_contact(&v));
+        let mut params = WheelRailModel::params(&v).unwrap();
+        let exact = wheelrail::model::Model::new(params.clone()).unwrap();
+        let s = exact.solve(&input(&v)).unwrap();
+        let g = &s.global;
+        assert_eq!(by_table.1, [g.semi_axis_a, g.semi_axis_b, g.peak_pressure]);
+        // each step another geometry: curvatures, prescribed semi-axes, back to the table's
+        for (k, (a_curv, b_curv, axes)) in [
+            (4.0, 0.8, [0.0, 0.0]),
+            (1.015, 0.4215, [4e-3, 7e-3]),
+            (2.0, 0.3, [0.0, 0.0]),
+            (1.015, 0.4215, [0.0, 0.0]),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            v.set(CURVATURE_LONGITUDINAL, Value::Real(a_curv));
+            v.set(CURVATURE_LATERAL, Value::Real(b_curv));
+            v.set(SEMI_AXIS_A, Value::Real(axes[0]));
+            v.set(SEMI_AXIS_B, Value::Real(axes[1]));
+            m.calculate(&mut v, &log).unwrap();
+            params.geometry = Geometry::of_inputs(a_curv, b_curv, axes);
+            if k == 3 {
+                assert_eq!(v.integer(EVALUATION_MODE), 1, "step {k}");
+                assert_eq!((outputs(&v), default_contact(&v)), by_table);
+                continue;
+            }
+            assert_eq!(v.integer(EVALUATION_MODE), 2, "step {k}");
+            let s = wheelrail::solve(&params, &input(&v)).unwrap();
+            let g = &s.global;
+            let want = [g.semi_axis_a, g.semi_axis_b, g.peak_pressure];
+            assert_eq!(default_contact(&v), want, "step {k}");
+            assert_eq!(v.real(FRICTIONAL_POWER), g.frictional_power, "step {k}");
+            assert_eq!(v.real(FORCE_LONGITUDINAL), g.force_x, "step {k}");
+        }
+        assert_eq!(v.real(CONTACT_SEMI_AXIS_A), by_table.1[0]);
+        let warnings: Vec<String> = seen.borrow().iter().map(|(_, _, m)| m.clone()).collect();
+        let warnings = warnings.join("\n");
+        assert_eq!(
+            warnings.matches("contact geometry").count(),
+            1,
+            "{warnings}"
+        );
+        // the errors name the geometry inputs
+        v.set(SEMI_AXIS_A, Value::Real(5e-3));
+        let e = m.calculate(&mut v, &log).unwrap_err();
+        assert!(e.contains("invalid value for semi_axis_b: 0 "), "{e}");
+        v.set(SEMI_AXIS_A, Value::Real(0.0));
+        v.set(CURVATURE_LATERAL, Value::Real(-1.0));
+        let e = m.calculate(&mut v, &log).unwrap_err();
+        assert!(
+            e.contains("invalid value for curvature_lateral: -1 "),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn derivatives_along_the_geometry_are_exact_differences() {
+        let log = Logger::new(None, false);
+        let mut m = WheelRailModel::new(None);
+        let mut v = with_table(0);
+        v.set(WARM_START, Value::Boolean(false));
+        let unknowns = [FORCE_LONGITUDINAL, CONTACT_SEMI_AXIS_A, PEAK_PRESSURE];
+        for (knowns, at) in [
+            ([CURVATURE_LONGITUDINAL, CURVATURE_LATERAL], [1.015, 0.4215]),
+            ([SEMI_AXIS_A, SEMI_AXIS_B], [5e-3, 8e-3]),
+        ] {
+            v.set(knowns[0], Value::Real(at[0]));
+            v.set(knowns[1], Value::Real(at[1]));
+            let seed = [1.0, 0.5];
+            let d = m
+                .directional_derivative(&v, &unknowns, &knowns, &seed, &log)
+                .unwrap();
+            // central differences through exact evaluations at the derivative tolerance
+            let h = 1e-4 * at[0];
+            let mut shifted = |sign: f64| {
+                let mut w = v.clone();
+                for (k, s) in knowns.iter().zip(seed) {
+                    w.set(*k, Value::Real(w.real(*k) + sign * h * s));
+                }
+                let (e, mode, _) = m
+                    .evaluate(&w, Some(DERIVATIVE_TOLERANCE), false, &log)
+                    .unwrap();
+                write_outputs(&mut w, &e, &e.outputs().unwrap(), mode);
+                unknowns.map(|i| w.real(i))
+            };
+            let (p, q) = (shifted(1.0), shifted(-1.0));
+            for r in 0..unknowns.len() {
+                let fd = (p[r] - q[r]) / (2.0 * h);
+                assert!(fd != 0.0, "{r}");
+                assert!(
+                    (d[r] - fd).abs() <= 2e-2 * fd.abs(),
+                    "{:?}, output {r}: {} vs {fd}",
+                    knowns,
+                    d[r]
+                );
+            }
+            v.set(
+                knowns[0],
+                Value::Real(if knowns[0] == SEMI_AXIS_A { 0.0 } else { 1.015 }),
+            );
+            v.set(
+                knowns[1],
+                Value::Real(if knowns[1] == SEMI_AXIS_B {
+                    0.0
+                } else {
+                    0.4215
+                }),
+            );
+        }
+    }
+
+    #[test]
     fn table_derivatives_are_those_of_the_interpolant_in_the_fmu_frame() {
         let log = Logger::new(None, false);
         let mut m = WheelRailModel::new(None);
