@@ -18,7 +18,7 @@
 //! of every step, outside the parameter cache: the library evaluates each step at its geometry
 //! ([`wheelrail::model::Evaluator::evaluate_at`]); in mode 0 a geometry other than the table's goes to
 //! the exact solver (logged once). Outputs `contact_semi_axis_a`, `contact_semi_axis_b`, `peak_pressure`
-//! (the normal contact evaluated) and `frictional_power` (NaN by table: the table does not give it).
+//! (the normal contact evaluated).
 //!
 //! **Derivatives:** by table, the exact derivatives of the interpolant (the library's chained Jacobian,
 //! [`wheelrail::model::Evaluator::table_jacobian_at`]) for the table's outputs along the operating
@@ -430,7 +430,6 @@ fn write_outputs(values: &mut Values, e: &Evaluation, o: &TableOutput, mode: i32
         (CONTACT_SEMI_AXIS_A, e.patch.semi_axis_a),
         (CONTACT_SEMI_AXIS_B, e.patch.semi_axis_b),
         (PEAK_PRESSURE, e.patch.peak_pressure),
-        (FRICTIONAL_POWER, e.frictional_power().unwrap_or(f64::NAN)),
     ] {
         values.set(i, Value::Real(x));
     }
@@ -768,7 +767,6 @@ mod tests {
         };
         m.calculate(&mut v, &log).unwrap();
         assert_eq!(v.integer(EVALUATION_MODE), 1);
-        assert!(v.real(FRICTIONAL_POWER).is_nan());
         let by_table = (outputs(&v), default_contact(&v));
         let mut params = WheelRailModel::params(&v).unwrap();
         let exact = wheelrail::model::Model::new(params.clone()).unwrap();
@@ -801,7 +799,6 @@ mod tests {
             let g = &s.global;
             let want = [g.semi_axis_a, g.semi_axis_b, g.peak_pressure];
             assert_eq!(default_contact(&v), want, "step {k}");
-            assert_eq!(v.real(FRICTIONAL_POWER), g.frictional_power, "step {k}");
             assert_eq!(v.real(FORCE_LONGITUDINAL), g.force_x, "step {k}");
         }
         assert_eq!(v.real(CONTACT_SEMI_AXIS_A), by_table.1[0]);

@@ -11,8 +11,9 @@
 //! parameters), or the semi-axes `semi_axis_a`, `semi_axis_b` of an ellipse the MBS tool computes itself:
 //! both 0 (the start) means "not prescribed", both > 0 define the ellipse and the curvatures are then
 //! ignored; one alone is an error. The contact's ellipse and peak pressure are outputs under other names
-//! (`contact_semi_axis_a`, `contact_semi_axis_b`, `peak_pressure`; an FMI name exists once), with
-//! `frictional_power`.
+//! (`contact_semi_axis_a`, `contact_semi_axis_b`, `peak_pressure`; an FMI name exists once). The frictional
+//! power is not an output yet: the table does not store it (the library gives it by the exact solver,
+//! `Evaluation::frictional_power`), and an output that only one mode can fill would be NaN in the other.
 //!
 //! Frame and signs (docs/model.md §1): x along the track in the direction of travel for positive
 //! `rolling_speed`, y lateral, z normal into the rail. Creepages are the rigid slip velocity of the wheel
@@ -107,8 +108,6 @@ pub const CONTACT_SEMI_AXIS_A: usize = 29;
 pub const CONTACT_SEMI_AXIS_B: usize = 30;
 /// `peak_pressure` p0 [Pa] (output).
 pub const PEAK_PRESSURE: usize = 31;
-/// `frictional_power` [W] (output).
-pub const FRICTIONAL_POWER: usize = 32;
 
 /// Default of `minimum_speed`: below this |V| the contact is solved at this speed [m/s].
 pub const DEFAULT_MINIMUM_SPEED: f64 = wheelrail::model::DEFAULT_MINIMUM_SPEED;
@@ -323,7 +322,7 @@ const INPUT_VARIABLES: [Variable; 6] = [
 ];
 
 /// The FMU's own variables: the outputs, the parameters of its evaluation and the prescribed semi-axes.
-const OWN_VARIABLES: [Variable; 19] = [
+const OWN_VARIABLES: [Variable; 18] = [
     output(
         "force_longitudinal",
         FORCE_LONGITUDINAL,
@@ -445,12 +444,6 @@ const OWN_VARIABLES: [Variable; 19] = [
         PEAK_PRESSURE,
         "Pa",
         "Peak Hertz pressure p0 = 3 F_N/(2 pi a b) of the contact ellipse; 0 for a lifted wheel",
-    ),
-    output(
-        "frictional_power",
-        FRICTIONAL_POWER,
-        "W",
-        "Frictional power dissipated in the slipping cells, sum of |tau| |s| (the work-rate basis of T-gamma wear indices); 0 for a lifted wheel. Only the exact solver gives it: by table (evaluation_mode 1) it is NaN (the table does not store it, and the creep power -(F_x xi + F_y eta + M_z phi) V differs from it by up to about 25%); set mode 2 for it every step",
     ),
 ];
 
