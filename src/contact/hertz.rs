@@ -48,28 +48,40 @@ fn curvature_ratio(e: f64) -> f64 {
     (ee / (1.0 - e * e) - k) / (k - ee)
 }
 
-impl HertzContact {
-    /// Hertz contact for curvatures A (along x) and B (along y) [1/m], normal force F_N [N] and composite
-    /// modulus E* [Pa] (docs/model.md §2): solves (E/(1−e²) − K)/(K − E) = A_l/A_s for e, then
-    /// m³ = 3F_N(K − E)/(2π E* e² A_s), n = m·sqrt(1 − e²), p0 = 3F_N/(2π m n), δ = 3F_N K/(2π E* m).
-    pub fn from_curvatures(
-        curv_x: f64,
-        curv_y: f64,
-        normal_force: f64,
-        e_star: f64,
-    ) -> Result<Self> {
+/// The load-independent part of a Hertz contact (docs/model.md §2): for curvatures A, B [1/m] and composite
+/// modulus E* [Pa], the eccentricity e from (E/(1−e²) − K)/(K − E) = A_l/A_s, solved once; then
+/// [`HertzShape::contact`] gives the contact at any normal force (m ∝ F_N^{1/3}) with the same arithmetic
+/// as [`HertzContact::from_curvatures`], bit for bit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HertzShape {
+    /// The factor of 3F_N in m³'s numerator: K − E for an ellipse, 1 for a circle [-].
+    numerator: f64,
+    /// m³'s denominator: 2π E* e² A_s for an ellipse, 8 E* A for a circle [Pa/m].
+    denominator: f64,
+    /// The minor over the major semi-axis, n/m = sqrt(1 − e²) [-].
+    aspect: f64,
+    /// K(e) (π/2 for a circle) [-].
+    k_int: f64,
+    /// E* [Pa].
+    e_star: f64,
+    /// Whether the major semi-axis lies along x (A ≤ B: along the direction of the smaller curvature).
+    major_along_x: bool,
+}
+
+impl HertzShape {
+    /// The shape for curvatures A (along x) and B (along y) [1/m] and composite modulus E* [Pa]
+    /// (docs/model.md §2): the eccentricity by bisection on e², since A_l/A_s(e) increases monotonically
+    /// from 1 to ∞.
+    pub fn from_curvatures(curv_x: f64, curv_y: f64, e_star: f64) -> Result<Self> {
         check_positive("curvature_x", curv_x, "1/m")?;
         check_positive("curvature_y", curv_y, "1/m")?;
-        check_positive("normal_force", normal_force, "N")?;
         check_positive("e_star", e_star, "Pa")?;
         let (a_s, a_l) = (curv_x.min(curv_y), curv_x.max(curv_y));
         let ratio = a_l / a_s;
-        let (major, minor, k_int) = if ratio < 1.0 + 1e-10 {
+        let (numerator, denominator, aspect, k_int) = if ratio < 1.0 + 1e-10 {
             // circle: (K − E)/e² → π/4, m³ = 3F/(8E*A)
-            let m = (3.0 * normal_force / (8.0 * e_star * a_s)).cbrt();
-            (m, m, PI / 2.0)
+            (1.0, 8.0 * e_star * a_s, 1.0, PI / 2.0)
         } else {
-            // bisection on u = e², ratio(e) increases monotonically from 1 to ∞
             let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
             for _ in 0..200 {
                 let mid = 0.5 * (lo + hi);
@@ -90,22 +102,52 @@ impl HertzContact {
                 });
             }
             let (k, ee) = complete_elliptic_integrals(e2.sqrt());
-            let m = (3.0 * normal_force * (k - ee) / (2.0 * PI * e_star * e2 * a_s)).cbrt();
-            (m, m * (1.0 - e2).sqrt(), k)
+            (k - ee, 2.0 * PI * e_star * e2 * a_s, (1.0 - e2).sqrt(), k)
         };
-        // the major semi-axis lies along the direction of the smaller curvature
-        let (a, b) = if curv_x <= curv_y {
+        Ok(Self {
+            numerator,
+            denominator,
+            aspect,
+            k_int,
+            e_star,
+            major_along_x: curv_x <= curv_y,
+        })
+    }
+
+    /// The contact at normal force F_N [N] (docs/model.md §2): m³ = 3F_N(K − E)/(2π E* e² A_s) (circle:
+    /// 3F_N/(8E*A)), n = m·sqrt(1 − e²), p0 = 3F_N/(2π m n), δ = 3F_N K/(2π E* m).
+    pub fn contact(&self, normal_force: f64) -> Result<HertzContact> {
+        check_positive("normal_force", normal_force, "N")?;
+        let major = (3.0 * normal_force * self.numerator / self.denominator).cbrt();
+        let minor = major * self.aspect;
+        let (a, b) = if self.major_along_x {
             (major, minor)
         } else {
             (minor, major)
         };
-        Ok(Self {
+        Ok(HertzContact {
             a,
             b,
             p0: 3.0 * normal_force / (2.0 * PI * a * b),
-            approach: 3.0 * normal_force * k_int / (2.0 * PI * e_star * major),
+            approach: 3.0 * normal_force * self.k_int / (2.0 * PI * self.e_star * major),
             normal_force,
         })
+    }
+}
+
+impl HertzContact {
+    /// Hertz contact for curvatures A (along x) and B (along y) [1/m], normal force F_N [N] and composite
+    /// modulus E* [Pa] (docs/model.md §2): [`HertzShape::from_curvatures`], then [`HertzShape::contact`].
+    pub fn from_curvatures(
+        curv_x: f64,
+        curv_y: f64,
+        normal_force: f64,
+        e_star: f64,
+    ) -> Result<Self> {
+        check_positive("curvature_x", curv_x, "1/m")?;
+        check_positive("curvature_y", curv_y, "1/m")?;
+        check_positive("normal_force", normal_force, "N")?;
+        HertzShape::from_curvatures(curv_x, curv_y, e_star)?.contact(normal_force)
     }
 
     /// Contact with prescribed semi-axes [m] (e.g. from a non-Hertzian normal solver).

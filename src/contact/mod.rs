@@ -4,4 +4,4 @@ pub mod grid;
 pub mod hertz;
 
 pub use grid::{Cell, ContactGrid, Strip};
-pub use hertz::{HertzContact, complete_elliptic_integrals};
+pub use hertz::{HertzContact, HertzShape, complete_elliptic_integrals};

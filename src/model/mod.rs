@@ -23,14 +23,15 @@ mod tests;
 
 pub use policy::{
     DEFAULT_MINIMUM_SPEED, DERIVATIVE_TOLERANCE, Evaluated, Evaluation, Evaluator, ExactResults,
-    Fallback, LIFT_OFF_LOAD, Mode, Notice, Notices, Policy,
+    Fallback, LIFT_OFF_LOAD, Mode, Notice, Notices, Patch, Policy,
 };
 
 use crate::error::Result;
-use crate::params::{OperatingPoint, Params};
+use crate::params::{Geometry, OperatingPoint, Params};
 /// Where an exact solve can start from (the state of a nearby solution), as the evaluator takes it.
 pub use crate::solver::WarmStart;
 use crate::solver::{self, Solution};
+use std::borrow::Cow;
 
 /// The model for one parameter set: the parameters are validated once, when it is made, and every solve
 /// uses them as they are.
@@ -67,11 +68,18 @@ impl Model {
         solver::solve_sweep(&self.params, points)
     }
 
-    /// The same model with the coupled solver's tolerance tightened to at most `tolerance` (for the
-    /// evaluations behind finite differences).
-    fn tightened(&self, tolerance: f64) -> Model {
+    /// The model with `geometry` (validated by the caller) and the coupled solver's tolerance tightened to
+    /// at most `tolerance` if given (for the evaluations behind finite differences): this model itself
+    /// when nothing changes, else a copy.
+    fn with(&self, geometry: &Geometry, tolerance: Option<f64>) -> Cow<'_, Model> {
+        if *geometry == self.params.geometry && tolerance.is_none() {
+            return Cow::Borrowed(self);
+        }
         let mut params = self.params.clone();
-        params.solver.tolerance = params.solver.tolerance.min(tolerance);
-        Model { params }
+        params.geometry = geometry.clone();
+        if let Some(t) = tolerance {
+            params.solver.tolerance = params.solver.tolerance.min(t);
+        }
+        Cow::Owned(Model { params })
     }
 }

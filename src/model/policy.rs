@@ -7,10 +7,19 @@
 //!   converged; nothing is solved or checked.
 //! - **Frame:** rolling backwards, standstill and wetness outside [0, 1] as in `frame` (the wetness clamp is
 //!   a [`Notice`]).
+//! - **Geometry** ([`Evaluator::evaluate_at`]): each evaluation may give its own contact geometry (gap
+//!   curvatures or prescribed semi-axes, docs/model.md §2) instead of the model's, without rebuilding the
+//!   model: it is validated ([`Geometry::validate`]) unless it is the model's, and the table evaluates only
+//!   points of the geometry it was built for.
 //! - **Mode** ([`Mode`]): auto evaluates by the table where it was built for the model's parameters and
-//!   the point lies inside its ranges, else by the exact solver (a [`Notice::FellBack`] with the reason);
-//!   table-only clamps points to the table's ranges ([`Notice::Clamped`]) and refuses other parameters
+//!   the evaluation's geometry and the point lies inside its ranges, else by the exact solver (a
+//!   [`Notice::FellBack`] with the reason); table-only clamps points to the table's ranges
+//!   ([`Notice::Clamped`]) and refuses other parameters or another geometry
 //!   ([`crate::Error::TableParameters`]); exact-only always solves.
+//! - **Normal contact:** every evaluation states its contact ellipse and peak pressure ([`Patch`]): the
+//!   exact solver's, by table the same Hertz solution (docs/model.md §2) from the table geometry's shape,
+//!   made once. The frictional power (docs/model.md §6.3, §7.4) only the exact solver gives: the table does not
+//!   store it, and the creep power F·V·creepage is not it (see [`Evaluation::frictional_power`]).
 //! - **Derivatives:** by table, the exact derivatives of the interpolant chained through the frame turn,
 //!   the minimum speed and the wetness clamp ([`Evaluator::table_jacobian`]). Elsewhere the caller
 //!   differences [`Evaluator::evaluate`] with the solver tolerance tightened to [`DERIVATIVE_TOLERANCE`],
@@ -19,8 +28,9 @@
 use super::Model;
 use super::frame::Solved;
 use crate::error::{Error, Result, check_finite, check_positive};
-use crate::params::OperatingPoint;
-use crate::solver::{GlobalResults, SolverReport, WarmStart};
+use crate::params::{Geometry, OperatingPoint};
+use crate::solver::{ContactShape, GlobalResults, SolverReport, WarmStart};
+
 use crate::table::{Jacobian, Table, TableOutput, other_parameters};
 use std::sync::Arc;
 
@@ -87,6 +97,9 @@ pub enum Fallback {
     OtherParameters,
     /// The point lies outside the table's ranges.
     OutsideRanges,
+    /// The evaluation's contact geometry is not the one the table was built for (the other parameters
+    /// are).
+    OtherGeometry,
 }
 
 /// Something an evaluation did that its caller may want to report (the evaluator reports it every time;
@@ -156,11 +169,26 @@ impl Evaluated {
     }
 }
 
+/// The normal contact of an evaluation: the contact ellipse and its peak pressure (docs/model.md §2; all
+/// zero for a lifted wheel).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Patch {
+    /// Semi-axis a along the rolling direction x [m].
+    pub semi_axis_a: f64,
+    /// Semi-axis b along y [m].
+    pub semi_axis_b: f64,
+    /// Peak pressure p0 = 3·F_N/(2π·a·b) [Pa].
+    pub peak_pressure: f64,
+}
+
 /// One evaluated operating point.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Evaluation {
     /// What evaluated it, with the results.
     pub by: Evaluated,
+    /// The contact ellipse and peak pressure (by the exact solver its own; by table Hertz of the table's
+    /// geometry, bit for bit the exact solver's).
+    pub patch: Patch,
     /// What the caller may want to report.
     pub notices: Notices,
 }
@@ -175,14 +203,27 @@ impl Evaluation {
             Evaluated::Exact(e) => TableOutput::from_results(&e.global, &e.report),
         }
     }
+
+    /// The frictional power dissipated in the contact, Σ|τ|·|s| over the slipping cells [W]
+    /// (docs/model.md §6.3, §7.4; the work-rate basis of Tγ wear indices): the exact solver's, 0 for a lifted
+    /// wheel, None by table. The table does not store it, and the creep power −(F_x·ξ + F_y·η + M_z·φ)·V
+    /// that its outputs give is not it in general (it also contains the elastic energy released at the
+    /// trailing edge), so no estimate is made.
+    pub fn frictional_power(&self) -> Option<f64> {
+        match &self.by {
+            Evaluated::Exact(e) => Some(e.global.frictional_power),
+            Evaluated::Lifted(_) => Some(0.0),
+            Evaluated::Table(_) => None,
+        }
+    }
 }
 
 /// How one point is evaluated.
 enum Route<'a> {
     /// By the exact solver.
     Exact,
-    /// By this table (possibly clamped).
-    Table(&'a Table),
+    /// By this table (possibly clamped), whose geometry has this shape.
+    Table(&'a Table, &'a ContactShape),
 }
 
 /// The point of a caller in the solved frame, its route and the notices so far (None: wheel lifted).
@@ -195,9 +236,10 @@ pub struct Evaluator {
     mode: Mode,
     /// The table the mode uses (None in mode exact-only).
     table: Option<Arc<Table>>,
-    /// Whether the table was built for the model's parameters (kept: comparing them is a large part of a
-    /// table evaluation's cost).
-    matches: bool,
+    /// Some when the table was built for the model's parameters, geometry aside (kept: comparing them is
+    /// a large part of a table evaluation's cost): the shape of the table's geometry, which gives the
+    /// normal contact of a table evaluation without solving for the eccentricity every time.
+    table_shape: Option<ContactShape>,
     policy: Policy,
 }
 
@@ -216,12 +258,23 @@ impl Evaluator {
         if mode == Mode::TableOnly && table.is_none() {
             return Err(Error::NoTable { mode });
         }
-        let matches = table.as_ref().is_some_and(|t| t.matches(model.params()));
+        let matches_but_geometry = table.as_ref().is_some_and(|t| {
+            let mut params = model.params().clone();
+            params.geometry = t.params().geometry.clone();
+            t.matches(&params)
+        });
+        let table_shape = match table.as_deref() {
+            Some(t) if matches_but_geometry => Some(ContactShape::of(
+                &t.params().geometry,
+                &t.params().material,
+            )?),
+            _ => None,
+        };
         Ok(Evaluator {
             model,
             mode,
             table,
-            matches,
+            table_shape,
             policy,
         })
     }
@@ -246,36 +299,60 @@ impl Evaluator {
         &self.policy
     }
 
-    /// Whether there is a table and it was built for the model's parameters.
+    /// Whether there is a table and it was built for the model's parameters (its geometry included).
     pub fn matches(&self) -> bool {
-        self.matches
+        self.table_shape.is_some() && self.table_geometry() == Some(&self.model.params().geometry)
     }
 
-    /// Which way a point of the solved frame goes, and the notice about it.
-    fn route(&self, point: &OperatingPoint) -> Result<(Route<'_>, Option<Notice>)> {
+    /// The geometry the table was built for (None without a table).
+    pub fn table_geometry(&self) -> Option<&Geometry> {
+        self.table.as_deref().map(|t| &t.params().geometry)
+    }
+
+    /// Which way a point of the solved frame with `geometry` goes, and the notice about it.
+    fn route(
+        &self,
+        point: &OperatingPoint,
+        geometry: &Geometry,
+    ) -> Result<(Route<'_>, Option<Notice>)> {
         let Some(table) = self.table.as_deref() else {
             return Ok((Route::Exact, None));
         };
+        let same_geometry = *geometry == table.params().geometry;
         let inside = table.in_range(point);
-        match self.mode {
-            Mode::TableOnly if !self.matches => Err(other_parameters(table, self.model.params())),
-            Mode::TableOnly => Ok((Route::Table(table), (!inside).then_some(Notice::Clamped))),
-            _ if !self.matches => Ok((
+        match (self.mode, &self.table_shape) {
+            (Mode::TableOnly, Some(shape)) if same_geometry => Ok((
+                Route::Table(table, shape),
+                (!inside).then_some(Notice::Clamped),
+            )),
+            (Mode::TableOnly, _) => Err(other_parameters(
+                table,
+                self.model.with(geometry, None).params(),
+            )),
+            (_, None) => Ok((
                 Route::Exact,
                 Some(Notice::FellBack(Fallback::OtherParameters)),
             )),
-            _ if !inside => Ok((
+            _ if !same_geometry => Ok((
+                Route::Exact,
+                Some(Notice::FellBack(Fallback::OtherGeometry)),
+            )),
+            (_, Some(shape)) if inside => Ok((Route::Table(table, shape), None)),
+            _ => Ok((
                 Route::Exact,
                 Some(Notice::FellBack(Fallback::OutsideRanges)),
             )),
-            _ => Ok((Route::Table(table), None)),
         }
     }
 
-    /// The caller's point in the solved frame, its route and notices (None: the wheel is lifted).
-    fn prepare(&self, input: &OperatingPoint) -> Result<Prepared<'_>> {
+    /// The caller's point in the solved frame, its route and notices (None: the wheel is lifted). A
+    /// geometry other than the model's is validated.
+    fn prepare(&self, input: &OperatingPoint, geometry: &Geometry) -> Result<Prepared<'_>> {
         if input.normal_force <= self.policy.lift_off_load {
             return Ok(None);
+        }
+        if *geometry != self.model.params().geometry {
+            geometry.validate()?;
         }
         let solved = Solved::of(input, self.policy.minimum_speed);
         let mut notices = Notices::default();
@@ -285,29 +362,59 @@ impl Evaluator {
                 used: solved.point.wetness,
             });
         }
-        let (route, notice) = self.route(&solved.point)?;
+        let (route, notice) = self.route(&solved.point, geometry)?;
         solved.check(input)?;
         notices.route = notice;
         Ok(Some((solved, route, notices)))
     }
 
-    /// Evaluates one operating point given in the caller's (MBS) frame: any sign of the rolling speed, a
-    /// lifted wheel, any wetness (see the module documentation). An exact solve uses the solver tolerance
-    /// tightened to `tolerance` if given, starts from `warm` if it holds a state and leaves its own state
-    /// there. Errors: invalid input (named as the caller gave it), mode table-only with a table for other
-    /// parameters, the solver's.
+    /// Evaluates one operating point given in the caller's (MBS) frame with the model's geometry:
+    /// [`Evaluator::evaluate_at`].
     pub fn evaluate(
         &self,
         input: &OperatingPoint,
         tolerance: Option<f64>,
         warm: &mut Option<WarmStart>,
     ) -> Result<Evaluation> {
-        let Some((solved, route, notices)) = self.prepare(input)? else {
+        self.evaluate_at(input, &self.model.params().geometry, tolerance, warm)
+    }
+
+    /// Evaluates one operating point given in the caller's (MBS) frame: any sign of the rolling speed, a
+    /// lifted wheel, any wetness (see the module documentation), with the contact `geometry` (the model's
+    /// or any other: the results are those of the model with this geometry). An exact solve uses the
+    /// solver tolerance tightened to `tolerance` if given, starts from `warm` if it holds a state and
+    /// leaves its own state there. Errors: invalid input (named as the caller gave it; the geometry by
+    /// `geometry.curvature_x`, `geometry.semi_axes[0]`, …), mode table-only with a table for other
+    /// parameters or another geometry, the solver's.
+    pub fn evaluate_at(
+        &self,
+        input: &OperatingPoint,
+        geometry: &Geometry,
+        tolerance: Option<f64>,
+        warm: &mut Option<WarmStart>,
+    ) -> Result<Evaluation> {
+        let Some((solved, route, notices)) = self.prepare(input, geometry)? else {
             return Ok(self.lifted());
         };
-        let mut by = match route {
-            Route::Table(t) => Evaluated::Table(t.evaluate(&solved.point)?),
-            Route::Exact => self.exact(&solved.point, tolerance, warm)?,
+        let (mut by, patch) = match route {
+            Route::Table(t, shape) => {
+                let hertz = shape.contact(solved.point.normal_force)?;
+                let patch = Patch {
+                    semi_axis_a: hertz.a,
+                    semi_axis_b: hertz.b,
+                    peak_pressure: hertz.p0,
+                };
+                (Evaluated::Table(t.evaluate(&solved.point)?), patch)
+            }
+            Route::Exact => {
+                let e = self.exact(&solved.point, geometry, tolerance, warm)?;
+                let patch = Patch {
+                    semi_axis_a: e.global.semi_axis_a,
+                    semi_axis_b: e.global.semi_axis_b,
+                    peak_pressure: e.global.peak_pressure,
+                };
+                (Evaluated::Exact(e), patch)
+            }
         };
         match &mut by {
             Evaluated::Table(o) | Evaluated::Lifted(o) => {
@@ -315,19 +422,30 @@ impl Evaluator {
             }
             Evaluated::Exact(e) => solved.turn_back(&mut e.global.force_x, &mut e.global.force_y),
         }
-        Ok(Evaluation { by, notices })
+        Ok(Evaluation { by, patch, notices })
     }
 
     /// The Jacobian of [`Evaluator::evaluate`]'s outputs (rows F_x, F_y, M_z, traction coefficient, T_max,
     /// fluid load fraction) with respect to the caller's inputs (columns ξ, η, φ, F_N, V, w), both in the
     /// caller's frame, where the table evaluates `input`: the interpolant's exact derivatives chained
     /// through the frame turn, the minimum speed and the wetness clamp. None where the exact solver would
-    /// evaluate or the wheel is lifted. With the evaluation's notices.
+    /// evaluate or the wheel is lifted. With the evaluation's notices. At the model's geometry:
+    /// [`Evaluator::table_jacobian_at`].
     pub fn table_jacobian(&self, input: &OperatingPoint) -> Result<(Option<Jacobian>, Notices)> {
-        let Some((solved, route, notices)) = self.prepare(input)? else {
+        self.table_jacobian_at(input, &self.model.params().geometry)
+    }
+
+    /// [`Evaluator::table_jacobian`] at the contact `geometry`: None unless the table evaluates the point
+    /// (a table covers one geometry, so it gives no derivative with respect to the geometry).
+    pub fn table_jacobian_at(
+        &self,
+        input: &OperatingPoint,
+        geometry: &Geometry,
+    ) -> Result<(Option<Jacobian>, Notices)> {
+        let Some((solved, route, notices)) = self.prepare(input, geometry)? else {
             return Ok((None, Notices::default()));
         };
-        let Route::Table(table) = route else {
+        let Route::Table(table, _) = route else {
             return Ok((None, notices));
         };
         let (_, jac) = table.evaluate_with_jacobian(&solved.point)?;
@@ -347,31 +465,30 @@ impl Evaluator {
                 in_range: true,
                 converged: true,
             }),
+            patch: Patch {
+                semi_axis_a: 0.0,
+                semi_axis_b: 0.0,
+                peak_pressure: 0.0,
+            },
             notices: Notices::default(),
         }
     }
 
-    /// The exact solver's results at a point of the solved frame (see [`Evaluator::evaluate`]).
+    /// The exact solver's results at a point of the solved frame with `geometry` (see
+    /// [`Evaluator::evaluate_at`]).
     fn exact(
         &self,
         point: &OperatingPoint,
+        geometry: &Geometry,
         tolerance: Option<f64>,
         warm: &mut Option<WarmStart>,
-    ) -> Result<Evaluated> {
-        let tightened;
-        let model = match tolerance {
-            Some(t) => {
-                tightened = self.model.tightened(t);
-                &tightened
-            }
-            None => &self.model,
-        };
+    ) -> Result<Box<ExactResults>> {
+        let model = self.model.with(geometry, tolerance);
         let s = model.solve_from(point, warm.as_ref())?;
         *warm = s.warm_start();
-        let exact = ExactResults {
+        Ok(Box::new(ExactResults {
             global: s.global,
             report: s.report,
-        };
-        Ok(Evaluated::Exact(Box::new(exact)))
+        }))
     }
 }

@@ -1,8 +1,10 @@
 //! The model and its evaluation policy: validation, routing and its notices, clamping, lift-off, the frame
 //! turn, the minimum speed, the wetness clamp, the chained table Jacobian, the tightened exact solve.
 
+use super::frame::Solved;
 use super::*;
 use crate::Error;
+use crate::params::Geometry;
 use crate::table::{Table, TableOutput, small_axes};
 use std::sync::{Arc, OnceLock};
 
@@ -477,4 +479,187 @@ fn the_table_jacobian_is_that_of_evaluate_in_the_callers_frame() {
     assert!(jac.is_none());
     assert_eq!(notices, eval(&e, &fast).notices);
     assert_eq!(notices.iter().count(), 2);
+}
+
+/// A geometry other than the default's: curvatures of a flange-root contact (a/b > 1).
+fn flange_root() -> Geometry {
+    Geometry::of_inputs(4.0, 0.8, [0.0, 0.0])
+}
+
+#[test]
+fn a_geometry_per_evaluation_is_the_model_with_that_geometry_bit_for_bit() {
+    let exact = evaluator(Mode::ExactOnly, params());
+    let backwards = OperatingPoint {
+        speed: -20.0,
+        ..inside()
+    };
+    for geometry in [
+        flange_root(),
+        Geometry::of_inputs(4.0, 0.8, [4e-3, 7e-3]),
+        params().geometry,
+    ] {
+        let mut with = params();
+        with.geometry = geometry.clone();
+        let want = evaluator(Mode::ExactOnly, with.clone());
+        for point in [inside(), backwards] {
+            let (got, want) = (
+                exact
+                    .evaluate_at(&point, &geometry, None, &mut None)
+                    .unwrap(),
+                want.evaluate(&point, None, &mut None).unwrap(),
+            );
+            assert_eq!(got, want);
+            let s = crate::solve(&with, &Solved::of(&point, 0.01).point).unwrap();
+            assert_eq!(
+                got.patch,
+                Patch {
+                    semi_axis_a: s.global.semi_axis_a,
+                    semi_axis_b: s.global.semi_axis_b,
+                    peak_pressure: s.global.peak_pressure,
+                }
+            );
+            assert_eq!(got.frictional_power(), Some(s.global.frictional_power));
+        }
+    }
+    // the model's own geometry is evaluate's
+    let g = params().geometry;
+    assert_eq!(
+        exact.evaluate_at(&inside(), &g, None, &mut None).unwrap(),
+        eval(&exact, &inside())
+    );
+}
+
+#[test]
+fn prescribed_semi_axes_win_over_the_curvatures() {
+    let exact = evaluator(Mode::ExactOnly, params());
+    let axes = [4e-3, 7e-3];
+    let with_flange = exact
+        .evaluate_at(
+            &inside(),
+            &Geometry::of_inputs(4.0, 0.8, axes),
+            None,
+            &mut None,
+        )
+        .unwrap();
+    let with_default = exact
+        .evaluate_at(
+            &inside(),
+            &Geometry::of_inputs(1.015, 0.4215, axes),
+            None,
+            &mut None,
+        )
+        .unwrap();
+    assert_eq!(with_flange, with_default);
+    let p = &with_flange.patch;
+    assert_eq!((p.semi_axis_a, p.semi_axis_b), (axes[0], axes[1]));
+    let p0 = 3.0 * inside().normal_force / (2.0 * std::f64::consts::PI * axes[0] * axes[1]);
+    assert_eq!(p.peak_pressure, p0);
+    // unused curvatures are not checked; no semi-axes (0, 0) means the curvatures
+    assert!(
+        exact
+            .evaluate_at(
+                &inside(),
+                &Geometry::of_inputs(0.0, -1.0, axes),
+                None,
+                &mut None
+            )
+            .is_ok()
+    );
+    let by_curvatures = exact
+        .evaluate_at(&inside(), &flange_root(), None, &mut None)
+        .unwrap();
+    assert_ne!(by_curvatures.patch, with_flange.patch);
+}
+
+#[test]
+fn auto_falls_back_for_another_geometry_and_uses_the_table_for_its_own() {
+    let auto = evaluator(Mode::Auto, params());
+    let r = auto
+        .evaluate_at(&inside(), &flange_root(), None, &mut None)
+        .unwrap();
+    assert!(matches!(r.by, Evaluated::Exact(_)));
+    assert_eq!(notice_list(&r), [Notice::FellBack(Fallback::OtherGeometry)]);
+    assert!(
+        auto.table_jacobian_at(&inside(), &flange_root())
+            .unwrap()
+            .0
+            .is_none()
+    );
+    // the table's geometry by table, with the exact solver's normal contact and no frictional power
+    let g = table().params().geometry.clone();
+    let r = auto.evaluate_at(&inside(), &g, None, &mut None).unwrap();
+    assert!(matches!(r.by, Evaluated::Table(_)));
+    assert!(r.notices.is_empty());
+    assert_eq!(r, eval(&auto, &inside()));
+    assert_eq!(r.frictional_power(), None);
+    let s = crate::solve(&params(), &inside()).unwrap();
+    assert_eq!(r.patch.semi_axis_a, s.global.semi_axis_a);
+    assert_eq!(r.patch.semi_axis_b, s.global.semi_axis_b);
+    assert_eq!(r.patch.peak_pressure, s.global.peak_pressure);
+    // a model of another geometry uses the table at the table's geometry
+    let mut other = params();
+    other.geometry = flange_root();
+    let auto_other = evaluator(Mode::Auto, other);
+    assert!(!auto_other.matches());
+    let r = eval(&auto_other, &inside());
+    assert_eq!(notice_list(&r), [Notice::FellBack(Fallback::OtherGeometry)]);
+    let r = auto_other
+        .evaluate_at(&inside(), &g, None, &mut None)
+        .unwrap();
+    assert_eq!(r, eval(&auto, &inside()));
+    // other parameters are named before another geometry
+    let mut rough = params();
+    rough.roughness.k_r = 0.6;
+    let r = evaluator(Mode::Auto, rough)
+        .evaluate_at(&inside(), &flange_root(), None, &mut None)
+        .unwrap();
+    assert_eq!(
+        notice_list(&r),
+        [Notice::FellBack(Fallback::OtherParameters)]
+    );
+    // table-only refuses another geometry
+    let only = evaluator(Mode::TableOnly, params());
+    let e = only
+        .evaluate_at(&inside(), &flange_root(), None, &mut None)
+        .unwrap_err();
+    assert!(matches!(e, Error::TableParameters { .. }), "{e}");
+    assert_eq!(
+        only.evaluate_at(&inside(), &g, None, &mut None).unwrap(),
+        eval(&only, &inside())
+    );
+}
+
+#[test]
+fn an_invalid_geometry_is_an_error_naming_it() {
+    let auto = evaluator(Mode::Auto, params());
+    let err = |g: Geometry| {
+        auto.evaluate_at(&inside(), &g, None, &mut None)
+            .unwrap_err()
+            .to_string()
+    };
+    let e = err(Geometry::of_inputs(f64::NAN, 0.4, [0.0, 0.0]));
+    assert!(e.contains("geometry.curvature_x: NaN"), "{e}");
+    let e = err(Geometry::of_inputs(1.0, 2e3, [0.0, 0.0]));
+    assert!(e.contains("geometry.curvature_y: 2000"), "{e}");
+    // one semi-axis alone is not a prescribed ellipse
+    let e = err(Geometry::of_inputs(1.0, 0.4, [5e-3, 0.0]));
+    assert!(e.contains("geometry.semi_axes[1]: 0"), "{e}");
+    let e = err(Geometry::of_inputs(1.0, 0.4, [-5e-3, 6e-3]));
+    assert!(e.contains("geometry.semi_axes[0]: -0.005"), "{e}");
+    // a lifted wheel checks nothing
+    let lifted = OperatingPoint {
+        normal_force: 0.0,
+        ..inside()
+    };
+    let r = auto
+        .evaluate_at(
+            &lifted,
+            &Geometry::of_inputs(f64::NAN, 0.4, [0.0, 0.0]),
+            None,
+            &mut None,
+        )
+        .unwrap();
+    assert!(matches!(r.by, Evaluated::Lifted(_)));
+    assert_eq!(r.patch.semi_axis_a, 0.0);
+    assert_eq!(r.frictional_power(), Some(0.0));
 }

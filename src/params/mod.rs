@@ -27,6 +27,41 @@ pub struct Geometry {
     pub semi_axes: Option<[f64; 2]>,
 }
 
+impl Geometry {
+    /// The geometry of per-evaluation inputs (the FMU's, the command line's): gap curvatures A, B [1/m]
+    /// and semi-axes a, b [m], where a = b = 0 means "not prescribed" (the curvatures define the ellipse)
+    /// and any other pair is prescribed (and must lie in [`spec::SEMI_AXIS_RANGE`], checked by
+    /// [`Geometry::validate`]).
+    pub fn of_inputs(curvature_x: f64, curvature_y: f64, semi_axes: [f64; 2]) -> Geometry {
+        Geometry {
+            curvature_x,
+            curvature_y,
+            semi_axes: (semi_axes != [0.0, 0.0]).then_some(semi_axes),
+        }
+    }
+
+    /// Checks prescribed semi-axes against [`spec::SEMI_AXIS_RANGE`], else the curvatures against their
+    /// rows of the specification (unused curvatures are not checked); the error carries the key.
+    pub fn validate(&self) -> Result<()> {
+        match self.semi_axes {
+            Some([a, b]) => {
+                for (key, x) in [(Key::SemiAxisA, a), (Key::SemiAxisB, b)] {
+                    if !spec::SEMI_AXIS_RANGE.contains(x) {
+                        return Err(
+                            key.invalid(x, spec::SEMI_AXIS_RANGE.describe(spec::Unit::Metre))
+                        );
+                    }
+                }
+                Ok(())
+            }
+            None => {
+                Param::CurvatureX.spec().check(self.curvature_x)?;
+                Param::CurvatureY.spec().check(self.curvature_y)
+            }
+        }
+    }
+}
+
 impl Default for Geometry {
     fn default() -> Self {
         Self {
@@ -358,21 +393,13 @@ impl Params {
         toml::to_string(self).expect("parameter set always serialises")
     }
 
-    /// Checks every value against its row of the specification ([`Param`]; the curvatures only when no
-    /// semi-axes are prescribed, since they are not used then) and the semi-axes against
-    /// [`spec::SEMI_AXIS_RANGE`]; the error carries the key.
+    /// Checks the geometry ([`Geometry::validate`]: the semi-axes against [`spec::SEMI_AXIS_RANGE`], the
+    /// curvatures only when no semi-axes are prescribed, since they are not used then), then every other
+    /// value against its row of the specification ([`Param`]); the error carries the key.
     pub fn validate(&self) -> Result<()> {
-        let prescribed = self.geometry.semi_axes;
-        if let Some([a, b]) = prescribed {
-            for (key, x) in [(Key::SemiAxisA, a), (Key::SemiAxisB, b)] {
-                if !spec::SEMI_AXIS_RANGE.contains(x) {
-                    return Err(key.invalid(x, spec::SEMI_AXIS_RANGE.describe(spec::Unit::Metre)));
-                }
-            }
-        }
+        self.geometry.validate()?;
         for p in Param::ALL {
-            let unused = matches!(p, Param::CurvatureX | Param::CurvatureY) && prescribed.is_some();
-            if !unused {
+            if !matches!(p, Param::CurvatureX | Param::CurvatureY) {
                 p.spec().check(self.get(p))?;
             }
         }

@@ -26,7 +26,7 @@ mod warm;
 
 pub use coupled::{solve, solve_from};
 pub use report::{Limiter, SolverReport, Termination};
-pub use setup::{normal_contact, surface_speeds};
+pub use setup::{ContactShape, normal_contact, surface_speeds};
 pub use solution::{Fields, GlobalResults, Solution};
 pub use sweep::solve_sweep;
 pub use warm::WarmStart;

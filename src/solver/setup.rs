@@ -1,30 +1,53 @@
 //! What stays fixed while one operating point is solved: the normal contact, the grid with its nominal
 //! pressures, the FASTSIM flexibilities, the microcontact model and the heat model.
 
-use crate::contact::{ContactGrid, HertzContact};
+use crate::contact::{ContactGrid, HertzContact, HertzShape};
 use crate::error::Result;
 use crate::fluid::base_height;
 use crate::materials::MaterialState;
 use crate::microcontact::Microcontact;
-use crate::params::{FrictionLaw, OperatingPoint, Params};
+use crate::params::{FrictionLaw, Geometry, Material, OperatingPoint, Params};
 use crate::tangential::{Creepages, Flexibilities, KalkerCoefficients};
 use crate::thermal::HeatModel;
 
-/// The nominal normal contact for a parameter set and a load: Hertz from the curvatures (E* at the bulk
-/// temperature), or the prescribed semi-axes (docs/model.md §2).
-pub fn normal_contact(params: &Params, normal_force: f64) -> Result<HertzContact> {
-    match params.geometry.semi_axes {
-        Some([a, b]) => HertzContact::from_semi_axes(a, b, normal_force),
-        None => {
-            let m = params.material.at(params.material.bulk_temperature);
-            HertzContact::from_curvatures(
-                params.geometry.curvature_x,
-                params.geometry.curvature_y,
-                normal_force,
-                m.e_star,
-            )
+/// The load-independent part of the nominal normal contact of a geometry (docs/model.md §2): the Hertz
+/// shape of the curvatures with E* at the bulk temperature, or the prescribed semi-axes. Made once per
+/// geometry; [`ContactShape::contact`] is then cheap (a cube root), bit for bit [`normal_contact`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ContactShape {
+    /// Hertz from the curvatures.
+    Hertz(HertzShape),
+    /// Prescribed semi-axes [a, b] [m].
+    Prescribed([f64; 2]),
+}
+
+impl ContactShape {
+    /// The shape of `geometry` for the steel `material` (E* at its bulk temperature).
+    pub fn of(geometry: &Geometry, material: &Material) -> Result<ContactShape> {
+        match geometry.semi_axes {
+            Some(axes) => Ok(ContactShape::Prescribed(axes)),
+            None => {
+                let m = material.at(material.bulk_temperature);
+                HertzShape::from_curvatures(geometry.curvature_x, geometry.curvature_y, m.e_star)
+                    .map(ContactShape::Hertz)
+            }
         }
     }
+
+    /// The nominal normal contact at `normal_force` [N]: Hertz (docs/model.md §2), or the prescribed
+    /// semi-axes with p0 = 3·F_N/(2π·a·b).
+    pub fn contact(&self, normal_force: f64) -> Result<HertzContact> {
+        match *self {
+            ContactShape::Hertz(h) => h.contact(normal_force),
+            ContactShape::Prescribed([a, b]) => HertzContact::from_semi_axes(a, b, normal_force),
+        }
+    }
+}
+
+/// The nominal normal contact for a parameter set and a load: Hertz from the curvatures (E* at the bulk
+/// temperature), or the prescribed semi-axes (docs/model.md §2; [`ContactShape`]).
+pub fn normal_contact(params: &Params, normal_force: f64) -> Result<HertzContact> {
+    ContactShape::of(&params.geometry, &params.material)?.contact(normal_force)
 }
 
 /// Wheel and rail surface speeds through the contact, V·(1 ± ξ/2) [m/s] (docs/model.md §1).

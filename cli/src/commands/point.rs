@@ -108,6 +108,10 @@ fn warn(evaluator: &Evaluator, e: &Evaluation) {
                 "warning: the table at {} was built for other parameters; the exact solver evaluates the point",
                 evaluator.table().map_or("<none>".into(), |t| t.location())
             ),
+            Notice::FellBack(Fallback::OtherGeometry) => eprintln!(
+                "warning: the table at {} was built for another contact geometry; the exact solver evaluates the point",
+                evaluator.table().map_or("<none>".into(), |t| t.location())
+            ),
             Notice::Clamped => eprintln!(
                 "warning: the point lies outside the table's ranges; each coordinate was clamped to its range"
             ),

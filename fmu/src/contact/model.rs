@@ -14,9 +14,17 @@
 //! and the point lies inside its ranges, else by the exact solver (each reason logged once per instance);
 //! `mode` 1 (table only) clamps points to the ranges (one warning) and refuses other parameters.
 //!
+//! **Geometry** (`curvature_longitudinal`, `curvature_lateral`, `semi_axis_a`, `semi_axis_b`) is an input
+//! of every step, outside the parameter cache: the library evaluates each step at its geometry
+//! ([`wheelrail::model::Evaluator::evaluate_at`]); in mode 0 a geometry other than the table's goes to
+//! the exact solver (logged once). Outputs `contact_semi_axis_a`, `contact_semi_axis_b`, `peak_pressure`
+//! (the normal contact evaluated).
+//!
 //! **Derivatives:** by table, the exact derivatives of the interpolant (the library's chained Jacobian,
-//! [`wheelrail::model::Evaluator::table_jacobian`]). By the exact solver, one forward difference along the
-//! seed direction of the inputs, each evaluation with the solver tolerance tightened to
+//! [`wheelrail::model::Evaluator::table_jacobian_at`]) for the table's outputs along the operating
+//! point's inputs. Otherwise (the exact solver evaluates, a seed moves the geometry, which leaves the
+//! table, or an unknown is an output the table does not give) one forward difference along the seed
+//! direction of the inputs by the exact solver, each evaluation with the solver tolerance tightened to
 //! [`DERIVATIVE_TOLERANCE`], so that solver noise (relative error ≈ tolerance/step = 10⁻⁴) stays far below
 //! the step. Where a cell of the discretised contact switches between stick and slip, F(ξ) has a kink and
 //! this is the slope on the side of the seed direction.
@@ -30,10 +38,10 @@ use crate::fmi2::model::{Model, ModelInfo};
 use crate::fmi2::variables::{Value, Values};
 use std::path::{Path, PathBuf};
 use wheelrail::model::{
-    DERIVATIVE_TOLERANCE, Evaluated, Evaluation, Evaluator, Fallback, LIFT_OFF_LOAD, Notice,
-    Notices, Policy, WarmStart,
+    DERIVATIVE_TOLERANCE, Evaluated, Evaluation, Evaluator, Fallback, LIFT_OFF_LOAD,
+    Mode::ExactOnly, Notice, Notices, Policy, WarmStart,
 };
-use wheelrail::params::{Key, Param};
+use wheelrail::params::{Geometry, Key, Param};
 use wheelrail::table::{Jacobian, Table, TableOutput};
 use wheelrail::{Error, OperatingPoint, Params};
 
@@ -45,6 +53,8 @@ pub const DERIVATIVE_STEP: f64 = 1e-4;
 fn variable_of(key: Key) -> Option<usize> {
     match key {
         Key::Param(Param::GridNx | Param::GridNy) => Some(GRID_SIZE),
+        Key::SemiAxisA => Some(SEMI_AXIS_A),
+        Key::SemiAxisB => Some(SEMI_AXIS_B),
         _ => key.spec()?.fmu.map(|f| f.value_reference as usize),
     }
 }
@@ -97,9 +107,12 @@ struct Setup {
     minimum_speed: u64,
     /// The library's policy for these parameters.
     evaluator: Evaluator,
+    /// The same model in mode exact-only: the evaluations behind finite differences, which must not mix
+    /// the table with the exact solver (a geometry seed leaves the table).
+    exact: Evaluator,
     /// The table Jacobian (in the FMU's frame) at the last inputs a directional derivative was asked for
     /// (a master asks for one seed direction per call, all at the same point).
-    jacobian: Option<(OperatingPoint, Jacobian)>,
+    jacobian: Option<(OperatingPoint, Geometry, Jacobian)>,
 }
 
 impl Setup {
@@ -151,6 +164,8 @@ impl Setup {
                     minimum_speed,
                     lift_off_load: LIFT_OFF_LOAD,
                 };
+                let exact = Evaluator::new(model.clone(), ExactOnly, None, policy)
+                    .map_err(|e| e.to_string())?;
                 let evaluator = Evaluator::new(model, library_mode, table, policy)
                     .map_err(|e| e.to_string())?;
                 Box::new(Setup {
@@ -159,6 +174,7 @@ impl Setup {
                     key,
                     minimum_speed: minimum_speed.to_bits(),
                     evaluator,
+                    exact,
                     jacobian: None,
                 })
             }
@@ -198,6 +214,11 @@ impl Warned {
                         Fallback::OutsideRanges => {
                             "an operating point lies outside the lookup table's ranges".into()
                         }
+                        Fallback::OtherGeometry => format!(
+                            "the contact geometry (curvature_longitudinal, curvature_lateral, semi_axis_a, \
+                             semi_axis_b) differs from the one the lookup table at {} was built for",
+                            table.map_or("<none>".into(), Table::location)
+                        ),
                     };
                     format!(
                         "mode 0 (auto): {why}; the exact solver evaluates such points (warned once)"
@@ -250,6 +271,15 @@ pub const OUTPUTS: [usize; 6] = [
     FLUID_LOAD_FRACTION,
 ];
 
+/// The current geometry inputs as the library's contact geometry (validated by the evaluation).
+fn geometry(values: &Values) -> Geometry {
+    Geometry::of_inputs(
+        values.real(CURVATURE_LONGITUDINAL),
+        values.real(CURVATURE_LATERAL),
+        [values.real(SEMI_AXIS_A), values.real(SEMI_AXIS_B)],
+    )
+}
+
 /// The current inputs as the library's operating point in the MBS frame (signed rolling speed, any normal
 /// force and wetness: the policy handles them).
 fn input(values: &Values) -> OperatingPoint {
@@ -289,8 +319,9 @@ impl WheelRailModel {
     }
 
     /// Evaluates the outputs of the current values: (results in the FMU's frame, evaluation_mode, status).
-    /// `tolerance` tightens the exact solver's tolerance (for finite differences). With `warm_start` on, an
-    /// exact solve starts from the last `calculate`'s state; `keep` makes its own state the next start.
+    /// `tolerance` tightens the exact solver's tolerance and selects the exact solver whatever the mode
+    /// (for finite differences). With `warm_start` on, an exact solve starts from the last `calculate`'s
+    /// state; `keep` makes its own state the next start.
     fn evaluate(
         &mut self,
         values: &Values,
@@ -306,9 +337,11 @@ impl WheelRailModel {
             (true, true) => self.warm.take(),
             (true, false) => self.warm.clone(),
         };
-        let result = setup
-            .evaluator
-            .evaluate(&input(values), tolerance, &mut warm);
+        let evaluator = match tolerance {
+            Some(_) => &setup.exact,
+            None => &setup.evaluator,
+        };
+        let result = evaluator.evaluate_at(&input(values), &geometry(values), tolerance, &mut warm);
         if warm_start && keep {
             self.warm = warm;
         }
@@ -317,12 +350,14 @@ impl WheelRailModel {
             let table = setup.evaluator.table().map(AsRef::as_ref);
             self.warned.log(&e.notices, table, log, &mut status);
         }
-        let mode = evaluation_mode(&e.by, &setup.evaluator);
+        let mode = evaluation_mode(&e.by, evaluator);
         Ok((e, mode, status))
     }
 
     /// The directional derivative from the table interpolant's Jacobian when the table evaluates the
-    /// current point (None: the exact solver does, or the wheel is lifted).
+    /// current point and the derivative is one of the table's outputs along its inputs (None: the exact
+    /// solver does, the wheel is lifted, or the seed moves the geometry, which leaves the table, or an
+    /// unknown is an output the table does not give).
     fn table_derivative(
         &mut self,
         values: &Values,
@@ -331,38 +366,40 @@ impl WheelRailModel {
         seed: &[f64],
         log: &Logger,
     ) -> Result<Option<Vec<f64>>, String> {
+        let index = |list: &[usize], i: usize| list.iter().position(|x| *x == i);
+        let rows: Option<Vec<usize>> = unknowns.iter().map(|&u| index(&OUTPUTS, u)).collect();
+        let outside = |(&k, s): (&usize, &f64)| *s != 0.0 && index(&INPUTS, k).is_none();
+        let Some(rows) = rows.filter(|_| !knowns.iter().zip(seed).any(outside)) else {
+            return Ok(None);
+        };
         let (setup, _) = Setup::current(&mut self.setup, self.resources.as_deref(), values, log)?;
-        let at = input(values);
-        let jac = match setup.jacobian {
-            Some((cached, jac)) if cached == at => jac,
+        let (at, shape) = (input(values), geometry(values));
+        let jac = match &setup.jacobian {
+            Some((cached, cached_shape, jac)) if *cached == at && *cached_shape == shape => *jac,
             _ => {
                 let (jac, notices) = (setup.evaluator)
-                    .table_jacobian(&at)
+                    .table_jacobian_at(&at, &shape)
                     .map_err(|e| fmu_error(e, values))?;
                 let table = setup.evaluator.table().map(AsRef::as_ref);
                 self.warned.log(&notices, table, log, &mut Status::Ok);
                 let Some(jac) = jac else {
                     return Ok(None);
                 };
-                setup.jacobian = Some((at, jac));
+                setup.jacobian = Some((at, shape, jac));
                 jac
             }
         };
-        let index = |list: &[usize], i: usize| list.iter().position(|x| *x == i);
-        unknowns
-            .iter()
-            .map(|&u| {
-                let r =
-                    index(&OUTPUTS, u).ok_or("derivative of an output the table does not give")?;
-                Ok(knowns
-                    .iter()
-                    .zip(seed)
-                    .map(|(&k, s)| index(&INPUTS, k).map_or(0.0, |c| jac[r][c] * s))
-                    .sum())
-            })
-            .collect::<Result<Vec<f64>, &str>>()
-            .map(Some)
-            .map_err(str::to_string)
+        Ok(Some(
+            rows.into_iter()
+                .map(|r| {
+                    knowns
+                        .iter()
+                        .zip(seed)
+                        .map(|(&k, s)| index(&INPUTS, k).map_or(0.0, |c| jac[r][c] * s))
+                        .sum()
+                })
+                .collect(),
+        ))
     }
 }
 
@@ -379,7 +416,10 @@ fn param_key(values: &Values) -> ParamKey {
     key
 }
 
-fn write_outputs(values: &mut Values, o: &TableOutput, mode: i32) {
+/// Writes an evaluation's outputs: the six of the table, the contact ellipse and peak pressure, the
+/// frictional power (NaN by table, which does not give it: see the variable's description), and
+/// `evaluation_mode`, `converged`.
+fn write_outputs(values: &mut Values, e: &Evaluation, o: &TableOutput, mode: i32) {
     for (i, x) in [
         (FORCE_LONGITUDINAL, o.force_x),
         (FORCE_LATERAL, o.force_y),
@@ -387,6 +427,9 @@ fn write_outputs(values: &mut Values, o: &TableOutput, mode: i32) {
         (TRACTION_COEFFICIENT, o.traction_coefficient),
         (MAX_TEMPERATURE, o.max_temperature),
         (FLUID_LOAD_FRACTION, o.fluid_load_fraction),
+        (CONTACT_SEMI_AXIS_A, e.patch.semi_axis_a),
+        (CONTACT_SEMI_AXIS_B, e.patch.semi_axis_b),
+        (PEAK_PRESSURE, e.patch.peak_pressure),
     ] {
         values.set(i, Value::Real(x));
     }
@@ -431,7 +474,7 @@ impl Model for WheelRailModel {
             });
             status = Status::Warning;
         }
-        write_outputs(values, &output, mode);
+        write_outputs(values, &e, &output, mode);
         Ok(status)
     }
 
@@ -456,7 +499,7 @@ impl Model for WheelRailModel {
             let (e, mode, _) = self.evaluate(v, Some(DERIVATIVE_TOLERANCE), false, log)?;
             let mut out = v.clone();
             let output = e.outputs().map_err(|err| fmu_error(err, v))?;
-            write_outputs(&mut out, &output, mode);
+            write_outputs(&mut out, &e, &output, mode);
             if v == values {
                 self.derivative_base = Some((v.clone(), out.clone()));
             }
@@ -709,6 +752,129 @@ mod tests {
                 assert_eq!(reused, columns(&mut WheelRailModel::new(None), &v, &log));
                 assert!(reused.iter().flatten().any(|d| *d != 0.0));
             }
+        }
+    }
+
+    #[test]
+    fn geometry_inputs_change_every_step_and_leave_the_table_for_another_geometry() {
+        let (log, seen) = capturing(false);
+        let mut m = WheelRailModel::new(None);
+        let mut v = with_table(0);
+        // cold exact solves: bit for bit the library's
+        v.set(WARM_START, Value::Boolean(false));
+        let default_contact = |v: &Values| {
+            [CONTACT_SEMI_AXIS_A, CONTACT_SEMI_AXIS_B, PEAK_PRESSURE].map(|i| v.real(i))
+        };
+        m.calculate(&mut v, &log).unwrap();
+        assert_eq!(v.integer(EVALUATION_MODE), 1);
+        let by_table = (outputs(&v), default_contact(&v));
+        let mut params = WheelRailModel::params(&v).unwrap();
+        let exact = wheelrail::model::Model::new(params.clone()).unwrap();
+        let s = exact.solve(&input(&v)).unwrap();
+        let g = &s.global;
+        assert_eq!(by_table.1, [g.semi_axis_a, g.semi_axis_b, g.peak_pressure]);
+        // each step another geometry: curvatures, prescribed semi-axes, back to the table's
+        for (k, (a_curv, b_curv, axes)) in [
+            (4.0, 0.8, [0.0, 0.0]),
+            (1.015, 0.4215, [4e-3, 7e-3]),
+            (2.0, 0.3, [0.0, 0.0]),
+            (1.015, 0.4215, [0.0, 0.0]),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            v.set(CURVATURE_LONGITUDINAL, Value::Real(a_curv));
+            v.set(CURVATURE_LATERAL, Value::Real(b_curv));
+            v.set(SEMI_AXIS_A, Value::Real(axes[0]));
+            v.set(SEMI_AXIS_B, Value::Real(axes[1]));
+            m.calculate(&mut v, &log).unwrap();
+            params.geometry = Geometry::of_inputs(a_curv, b_curv, axes);
+            if k == 3 {
+                assert_eq!(v.integer(EVALUATION_MODE), 1, "step {k}");
+                assert_eq!((outputs(&v), default_contact(&v)), by_table);
+                continue;
+            }
+            assert_eq!(v.integer(EVALUATION_MODE), 2, "step {k}");
+            let s = wheelrail::solve(&params, &input(&v)).unwrap();
+            let g = &s.global;
+            let want = [g.semi_axis_a, g.semi_axis_b, g.peak_pressure];
+            assert_eq!(default_contact(&v), want, "step {k}");
+            assert_eq!(v.real(FORCE_LONGITUDINAL), g.force_x, "step {k}");
+        }
+        assert_eq!(v.real(CONTACT_SEMI_AXIS_A), by_table.1[0]);
+        let warnings: Vec<String> = seen.borrow().iter().map(|(_, _, m)| m.clone()).collect();
+        let warnings = warnings.join("\n");
+        assert_eq!(
+            warnings.matches("contact geometry").count(),
+            1,
+            "{warnings}"
+        );
+        // the errors name the geometry inputs
+        v.set(SEMI_AXIS_A, Value::Real(5e-3));
+        let e = m.calculate(&mut v, &log).unwrap_err();
+        assert!(e.contains("invalid value for semi_axis_b: 0 "), "{e}");
+        v.set(SEMI_AXIS_A, Value::Real(0.0));
+        v.set(CURVATURE_LATERAL, Value::Real(-1.0));
+        let e = m.calculate(&mut v, &log).unwrap_err();
+        assert!(
+            e.contains("invalid value for curvature_lateral: -1 "),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn derivatives_along_the_geometry_are_exact_differences() {
+        let log = Logger::new(None, false);
+        let mut m = WheelRailModel::new(None);
+        let mut v = with_table(0);
+        v.set(WARM_START, Value::Boolean(false));
+        let unknowns = [FORCE_LONGITUDINAL, CONTACT_SEMI_AXIS_A, PEAK_PRESSURE];
+        for (knowns, at) in [
+            ([CURVATURE_LONGITUDINAL, CURVATURE_LATERAL], [1.015, 0.4215]),
+            ([SEMI_AXIS_A, SEMI_AXIS_B], [5e-3, 8e-3]),
+        ] {
+            v.set(knowns[0], Value::Real(at[0]));
+            v.set(knowns[1], Value::Real(at[1]));
+            let seed = [1.0, 0.5];
+            let d = m
+                .directional_derivative(&v, &unknowns, &knowns, &seed, &log)
+                .unwrap();
+            // central differences through exact evaluations at the derivative tolerance
+            let h = 1e-4 * at[0];
+            let mut shifted = |sign: f64| {
+                let mut w = v.clone();
+                for (k, s) in knowns.iter().zip(seed) {
+                    w.set(*k, Value::Real(w.real(*k) + sign * h * s));
+                }
+                let (e, mode, _) = m
+                    .evaluate(&w, Some(DERIVATIVE_TOLERANCE), false, &log)
+                    .unwrap();
+                write_outputs(&mut w, &e, &e.outputs().unwrap(), mode);
+                unknowns.map(|i| w.real(i))
+            };
+            let (p, q) = (shifted(1.0), shifted(-1.0));
+            for r in 0..unknowns.len() {
+                let fd = (p[r] - q[r]) / (2.0 * h);
+                assert!(fd != 0.0, "{r}");
+                assert!(
+                    (d[r] - fd).abs() <= 2e-2 * fd.abs(),
+                    "{:?}, output {r}: {} vs {fd}",
+                    knowns,
+                    d[r]
+                );
+            }
+            v.set(
+                knowns[0],
+                Value::Real(if knowns[0] == SEMI_AXIS_A { 0.0 } else { 1.015 }),
+            );
+            v.set(
+                knowns[1],
+                Value::Real(if knowns[1] == SEMI_AXIS_B {
+                    0.0
+                } else {
+                    0.4215
+                }),
+            );
         }
     }
 

@@ -3,7 +3,17 @@
 //! index in [`VARIABLES`]. The inputs and the model's parameters are rows of the library's parameter
 //! specification (`wheelrail::params::spec`: name, value reference, unit, start, range and, for the
 //! parameters, description); the FMU adds its own variables (outputs, `grid_size`, `mode`, `table_file`,
-//! `minimum_speed`, `warm_start`) and its inputs' conventions (ranges, nominal values, descriptions).
+//! `minimum_speed`, `warm_start`, the prescribed semi-axes `semi_axis_a`, `semi_axis_b`) and its inputs'
+//! conventions (ranges, nominal values, descriptions).
+//!
+//! **Contact geometry** is an input of every step (docs/model.md §2): the gap curvatures
+//! `curvature_longitudinal` A and `curvature_lateral` B (rows of the specification, inputs rather than
+//! parameters), or the semi-axes `semi_axis_a`, `semi_axis_b` of an ellipse the MBS tool computes itself:
+//! both 0 (the start) means "not prescribed", both > 0 define the ellipse and the curvatures are then
+//! ignored; one alone is an error. The contact's ellipse and peak pressure are outputs under other names
+//! (`contact_semi_axis_a`, `contact_semi_axis_b`, `peak_pressure`; an FMI name exists once). The frictional
+//! power is not an output yet: the table does not store it (the library gives it by the exact solver,
+//! `Evaluation::frictional_power`), and an output that only one mode can fill would be NaN in the other.
 //!
 //! Frame and signs (docs/model.md §1): x along the track in the direction of travel for positive
 //! `rolling_speed`, y lateral, z normal into the rail. Creepages are the rigid slip velocity of the wheel
@@ -12,7 +22,7 @@
 
 use crate::fmi2::model::{DefaultExperiment, ModelInfo, Unit};
 use crate::fmi2::variables::{Causality, Kind, Variability, Variable};
-use wheelrail::params::spec::{Bound, Fmu, Spec};
+use wheelrail::params::spec::{Bound, Fmu, SEMI_AXIS_RANGE, Spec};
 use wheelrail::params::{Input, Param};
 
 /// The FMU variable of a specification row (a compile-time error for a row without one).
@@ -63,9 +73,9 @@ pub const EVALUATION_MODE: usize = 12;
 pub const CONVERGED: usize = 13;
 /// `roughness` k_r [-].
 pub const ROUGHNESS: usize = parameter_vr(Param::RoughnessKr);
-/// `curvature_longitudinal` A [1/m].
+/// `curvature_longitudinal` A [1/m] (an input).
 pub const CURVATURE_LONGITUDINAL: usize = parameter_vr(Param::CurvatureX);
-/// `curvature_lateral` B [1/m].
+/// `curvature_lateral` B [1/m] (an input).
 pub const CURVATURE_LATERAL: usize = parameter_vr(Param::CurvatureY);
 /// `bulk_temperature` T0 [K].
 pub const BULK_TEMPERATURE: usize = parameter_vr(Param::BulkTemperature);
@@ -88,6 +98,16 @@ pub const MINIMUM_SPEED: usize = 25;
 
 /// `warm_start`: start each exact solve from the previous one's state.
 pub const WARM_START: usize = 26;
+/// `semi_axis_a`: prescribed semi-axis a along x [m] (input; 0: not prescribed).
+pub const SEMI_AXIS_A: usize = 27;
+/// `semi_axis_b`: prescribed semi-axis b along y [m] (input; 0: not prescribed).
+pub const SEMI_AXIS_B: usize = 28;
+/// `contact_semi_axis_a`: the contact ellipse's semi-axis a [m] (output).
+pub const CONTACT_SEMI_AXIS_A: usize = 29;
+/// `contact_semi_axis_b`: the contact ellipse's semi-axis b [m] (output).
+pub const CONTACT_SEMI_AXIS_B: usize = 30;
+/// `peak_pressure` p0 [Pa] (output).
+pub const PEAK_PRESSURE: usize = 31;
 
 /// Default of `minimum_speed`: below this |V| the contact is solved at this speed [m/s].
 pub const DEFAULT_MINIMUM_SPEED: f64 = wheelrail::model::DEFAULT_MINIMUM_SPEED;
@@ -161,14 +181,19 @@ const fn output(
 
 /// A parameter wholly from its specification row: name, value reference, unit, start (the library's
 /// default), range (FMI states closed bounds only: an open or missing bound has no `min`/`max`) and
-/// description.
+/// description; a gap curvature is a continuous input instead ([`is_geometry`]).
 const fn spec_parameter(p: Param) -> Variable {
     let (s, fmu) = (p.spec(), exposed(p.spec()));
+    let (causality, variability) = if is_geometry(p) {
+        (Causality::Input, Variability::Continuous)
+    } else {
+        (Causality::Parameter, Variability::Fixed)
+    };
     Variable {
         name: fmu.name,
         vr: fmu.value_reference,
-        causality: Causality::Parameter,
-        variability: Variability::Fixed,
+        causality,
+        variability,
         kind: Kind::Real {
             unit: s.unit.fmi(),
             start: Some(s.default),
@@ -177,6 +202,30 @@ const fn spec_parameter(p: Param) -> Variable {
             nominal: None,
         },
         description: s.description,
+    }
+}
+
+/// Whether a row of the specification is a gap curvature: an input of every step, not a parameter.
+pub const fn is_geometry(p: Param) -> bool {
+    matches!(p, Param::CurvatureX | Param::CurvatureY)
+}
+
+/// A prescribed semi-axis input [m]: 0 (the start) is "not prescribed"; else the library's range
+/// (`SEMI_AXIS_RANGE`, checked per step with the error naming the variable).
+const fn semi_axis_input(name: &'static str, vr: usize, description: &'static str) -> Variable {
+    Variable {
+        name,
+        vr: vr as u32,
+        causality: Causality::Input,
+        variability: Variability::Continuous,
+        kind: Kind::Real {
+            unit: "m",
+            start: Some(0.0),
+            min: Some(0.0),
+            max: Some(closed(SEMI_AXIS_RANGE.hi)),
+            nominal: Some(1e-2),
+        },
+        description,
     }
 }
 
@@ -272,8 +321,8 @@ const INPUT_VARIABLES: [Variable; 6] = [
     ),
 ];
 
-/// The FMU's own variables: the outputs and the parameters of its evaluation.
-const OWN_VARIABLES: [Variable; 13] = [
+/// The FMU's own variables: the outputs, the parameters of its evaluation and the prescribed semi-axes.
+const OWN_VARIABLES: [Variable; 18] = [
     output(
         "force_longitudinal",
         FORCE_LONGITUDINAL,
@@ -368,10 +417,39 @@ const OWN_VARIABLES: [Variable; 13] = [
         kind: Kind::Boolean { start: Some(true) },
         description: "Exact solver: start each solve from the previous exact solution of this instance (its temperature, separation and film fields; several times fewer iterations between nearby steps). Results agree with a cold solve to within the solver tolerance; false makes every output a pure function of the current inputs",
     },
+    semi_axis_input(
+        "semi_axis_a",
+        SEMI_AXIS_A,
+        "Prescribed contact semi-axis a along x (e.g. from the MBS tool's own normal contact): when semi_axis_a and semi_axis_b are both > 0 they define the ellipse, the curvatures are ignored and peak_pressure = 3 F_N/(2 pi a b); both 0: Hertz from the curvatures; one alone is an error. The contact's semi-axis is the output contact_semi_axis_a",
+    ),
+    semi_axis_input(
+        "semi_axis_b",
+        SEMI_AXIS_B,
+        "Prescribed contact semi-axis b along y: see semi_axis_a. The contact's semi-axis is the output contact_semi_axis_b",
+    ),
+    output(
+        "contact_semi_axis_a",
+        CONTACT_SEMI_AXIS_A,
+        "m",
+        "Semi-axis a along x of the contact ellipse evaluated (Hertz from the curvatures, or the prescribed semi_axis_a); named apart from the input semi_axis_a; 0 for a lifted wheel",
+    ),
+    output(
+        "contact_semi_axis_b",
+        CONTACT_SEMI_AXIS_B,
+        "m",
+        "Semi-axis b along y of the contact ellipse evaluated (Hertz from the curvatures, or the prescribed semi_axis_b); named apart from the input semi_axis_b; 0 for a lifted wheel",
+    ),
+    output(
+        "peak_pressure",
+        PEAK_PRESSURE,
+        "Pa",
+        "Peak Hertz pressure p0 = 3 F_N/(2 pi a b) of the contact ellipse; 0 for a lifted wheel",
+    ),
 ];
 
-/// The number of parameters of the library's specification that the FMU exposes.
-const EXPOSED: usize = {
+/// The number of rows of the library's specification that the FMU exposes (parameters and the gap
+/// curvatures, which are inputs).
+const EXPOSED_ROWS: usize = {
     let (mut n, mut k) = (0, 0);
     while k < Param::ALL.len() {
         if Param::ALL[k].spec().fmu.is_some() {
@@ -382,23 +460,45 @@ const EXPOSED: usize = {
     n
 };
 
-/// The parameters of the library's specification that the FMU exposes (the rows with an FMU variable),
-/// with their variables' indices, in the specification's order.
-pub const EXPOSED_PARAMETERS: [(Param, usize); EXPOSED] = {
-    let mut out = [(Param::ALL[0], 0); EXPOSED];
+/// The number of parameters of the library's specification that the FMU exposes as parameters.
+const EXPOSED: usize = {
     let (mut n, mut k) = (0, 0);
     while k < Param::ALL.len() {
-        if let Some(f) = Param::ALL[k].spec().fmu {
+        if Param::ALL[k].spec().fmu.is_some() && !is_geometry(Param::ALL[k]) {
+            n += 1;
+        }
+        k += 1;
+    }
+    n
+};
+
+/// The rows of the library's specification that the FMU exposes (the rows with an FMU variable), with
+/// their variables' indices, in the specification's order; `parameters` selects the parameters (else the
+/// gap curvatures).
+const fn exposed_rows<const N: usize>(parameters: bool) -> [(Param, usize); N] {
+    let mut out = [(Param::ALL[0], 0); N];
+    let (mut n, mut k) = (0, 0);
+    while k < Param::ALL.len() {
+        if let Some(f) = Param::ALL[k].spec().fmu
+            && is_geometry(Param::ALL[k]) != parameters
+        {
             out[n] = (Param::ALL[k], f.value_reference as usize);
             n += 1;
         }
         k += 1;
     }
     out
-};
+}
+
+/// The parameters of the library's specification that the FMU exposes as parameters, with their
+/// variables' indices, in the specification's order.
+pub const EXPOSED_PARAMETERS: [(Param, usize); EXPOSED] = exposed_rows(true);
+
+/// The rows of the specification that the FMU exposes as inputs of every step (the gap curvatures).
+const GEOMETRY_ROWS: [(Param, usize); EXPOSED_ROWS - EXPOSED] = exposed_rows(false);
 
 /// The number of variables.
-const COUNT: usize = INPUT_VARIABLES.len() + OWN_VARIABLES.len() + EXPOSED;
+const COUNT: usize = INPUT_VARIABLES.len() + OWN_VARIABLES.len() + EXPOSED_ROWS;
 
 /// Puts a variable at its value reference; a clash or a reference beyond the table is a compile-time
 /// error.
@@ -433,6 +533,11 @@ const fn assemble() -> [Variable; COUNT] {
         slots = place(slots, spec_parameter(EXPOSED_PARAMETERS[k].0));
         k += 1;
     }
+    k = 0;
+    while k < GEOMETRY_ROWS.len() {
+        slots = place(slots, spec_parameter(GEOMETRY_ROWS[k].0));
+        k += 1;
+    }
     let mut table = [OWN_VARIABLES[0]; COUNT];
     k = 0;
     while k < COUNT {
@@ -450,7 +555,7 @@ const fn assemble() -> [Variable; COUNT] {
 pub static VARIABLES: [Variable; COUNT] = assemble();
 
 /// Units of the variables.
-pub static UNITS: [Unit; 8] = [
+pub static UNITS: [Unit; 10] = [
     Unit {
         name: "1",
         kg: 0,
@@ -505,6 +610,20 @@ pub static UNITS: [Unit; 8] = [
         kg: 1,
         m: -1,
         s: -1,
+        k: 0,
+    },
+    Unit {
+        name: "Pa",
+        kg: 1,
+        m: -1,
+        s: -2,
+        k: 0,
+    },
+    Unit {
+        name: "W",
+        kg: 1,
+        m: 2,
+        s: -3,
         k: 0,
     },
 ];
@@ -581,6 +700,7 @@ mod tests {
             assert_eq!(v.name, f.name);
             let want = match s.key {
                 wheelrail::params::Key::Input(_) => Causality::Input,
+                wheelrail::params::Key::Param(p) if is_geometry(p) => Causality::Input,
                 _ => Causality::Parameter,
             };
             assert_eq!(v.causality, want, "{}", v.name);

@@ -125,7 +125,7 @@ impl Variable {
 }
 
 /// One value.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub enum Value {
     /// A Real.
     Real(f64),
@@ -135,6 +135,20 @@ pub enum Value {
     Boolean(bool),
     /// A String.
     String(String),
+}
+
+/// Values are equal when they are the same bits (a Real NaN equals itself: an output may be NaN, and
+/// values are compared as cache keys and FMU states).
+impl PartialEq for Value {
+    fn eq(&self, other: &Value) -> bool {
+        match (self, other) {
+            (Value::Real(a), Value::Real(b)) => a.to_bits() == b.to_bits(),
+            (Value::Integer(a), Value::Integer(b)) => a == b,
+            (Value::Boolean(a), Value::Boolean(b)) => a == b,
+            (Value::String(a), Value::String(b)) => a == b,
+            _ => false,
+        }
+    }
 }
 
 impl Value {
