@@ -31,12 +31,17 @@ def test_model_description_declares_the_capabilities(fmu_path):
     assert cs.canGetAndSetFMUstate and cs.canSerializeFMUstate and cs.providesDirectionalDerivative
     inputs = {v.name for v in md.modelVariables if v.causality == "input"}
     assert inputs == {"creepage_longitudinal", "creepage_lateral", "spin_creepage", "normal_force",
-                      "rolling_speed", "wetness"}
+                      "rolling_speed", "wetness"} | GEOMETRY_INPUTS | {"semi_axis_a", "semi_axis_b"}
     for v in md.modelVariables:
         assert v.description, v.name
         if v.type == "Real":
             assert v.unit, v.name
     assert {c.name for c in md.logCategories} >= {"logEvents", "logStatusWarning", "logStatusError", "logAll"}
+
+
+# parameters of the library (rows of kind "parameter") that the FMU takes as inputs of every step: the contact
+# geometry (issue 13)
+GEOMETRY_INPUTS = {"curvature_longitudinal", "curvature_lateral"}
 
 
 def test_model_description_carries_the_parameter_specification(fmu_path):
@@ -48,7 +53,7 @@ def test_model_description_carries_the_parameter_specification(fmu_path):
     for r in rows:
         v = variables[r["fmu"]]
         assert v.valueReference == r["value_reference"], r["fmu"]
-        assert v.causality == r["kind"], r["fmu"]
+        assert v.causality == ("input" if r["fmu"] in GEOMETRY_INPUTS else r["kind"]), r["fmu"]
         assert v.unit == r["unit"], r["fmu"]
         assert float(v.start) == r["default"], r["fmu"]
         if r["kind"] == "parameter":
