@@ -84,18 +84,54 @@ impl CellGeometry {
     /// Cell heights at separation `d` for the surface with height deviation `z_s` and base height `d_b`
     /// (closed form of P11: l_m = [z·ψ(z) − z_s²·φ(z)] from d_b to d). The void height is computed as
     /// ∫_{d_b}^{d} (1 − ψ) dz directly, which keeps its full relative accuracy when it is tiny.
+    ///
+    /// Below the base height (d < d_b, l_c < 0: asperities pressed so far that their voids lie below d_b,
+    /// docs/model.md §8.2) the voids are closed: l_v = 0, and so is its slope, the derivative of the
+    /// clamped l_v (the film's cell solve relies on it to step out of the closed range, docs/model.md
+    /// §8.7). At d = d_b the slope is the one from above, 1 − ψ(d_b), where a closed cell opens.
     pub fn at(d: f64, z_s: f64, d_b: f64) -> Self {
         let cell_height = d - d_b;
         let metal_height = psi_antiderivative(d, z_s) - psi_antiderivative(d_b, z_s);
         // 1 − ψ(z) = ψ(−z): ∫_{d_b}^{d} ψ(−z) dz = ∫_{−d}^{−d_b} ψ(u) du
         let void_height = (psi_antiderivative(-d_b, z_s) - psi_antiderivative(-d, z_s)).max(0.0);
+        let void_slope = if cell_height >= 0.0 {
+            0.5 * libm::erfc(-d / (SQRT_2 * z_s))
+        } else {
+            0.0
+        };
         Self {
             cell_height,
             metal_height,
             void_height,
-            void_slope: 0.5 * libm::erfc(-d / (SQRT_2 * z_s)),
+            void_slope,
         }
     }
+}
+
+/// The separation d ≥ d_b [m] at which the void height (P10, P11) is `void` > 0 [m]: the inverse of
+/// l_v(d) = ∫_{d_b}^{d} (1 − ψ) dz of [`CellGeometry::at`] above the base height `d_b` (docs/model.md §8.2).
+///
+/// With x = d/z_s, l_v = z_s·(G(x) − G(x_b)), G(x) = x·Φ(x) + φ0(x) (Φ, φ0 the standard normal distribution
+/// and density; 1 − ψ(z) = Φ(z/z_s)). Newton's method on ln G(x) = ln(G(x_b) + l_v/z_s), started at x_b:
+/// G is log-concave (the integral of the log-concave Φ), so the iterates increase monotonically to the root
+/// without overshooting; stopped when the step is below 1e-15·max(1, |x|).
+pub fn separation_for_void(void: f64, z_s: f64, d_b: f64) -> f64 {
+    let g = |x: f64| {
+        let cdf = 0.5 * libm::erfc(-x / SQRT_2);
+        (x * cdf + (-0.5 * x * x).exp() / (2.0 * PI).sqrt(), cdf)
+    };
+    let x_b = d_b / z_s;
+    let target = (g(x_b).0 + void / z_s).ln();
+    let mut x = x_b;
+    for _ in 0..200 {
+        let (gx, cdf) = g(x);
+        let step = (target - gx.ln()) * gx / cdf;
+        x += step;
+        if step.abs() <= 1e-15 * x.abs().max(1.0) {
+            break;
+        }
+    }
+    x * z_s
 }
 
 #[cfg(test)]
@@ -142,6 +178,35 @@ mod tests {
             assert!((g.metal_height - lm).abs() < 1e-10 * z_s, "l_m at {t}");
             assert!((g.void_height - lv).abs() < 1e-10 * z_s, "l_v at {t}");
             assert!((g.cell_height - g.metal_height - g.void_height).abs() < 1e-12 * z_s);
+        }
+    }
+
+    /// Below the base height the void is closed: l_v = 0 and its slope 0 (the slope of the clamped
+    /// height, which the film's cell solve steps along); from d_b up the slope is 1 − ψ. The separation
+    /// of a void height inverts l_v(d) above d_b.
+    #[test]
+    fn the_void_is_closed_below_the_base_height_and_its_height_inverts() {
+        let z_s = 5e-6;
+        let d_b = base_height(z_s, 0.9995);
+        for t in [-6.0, -4.0, -3.3] {
+            let g = CellGeometry::at(t * z_s, z_s, d_b);
+            assert_eq!((g.void_height, g.void_slope), (0.0, 0.0), "{t}");
+        }
+        let at_base = CellGeometry::at(d_b, z_s, d_b);
+        assert_eq!(at_base.void_height, 0.0);
+        assert!(
+            (at_base.void_slope - 5e-4).abs() < 1e-12,
+            "{}",
+            at_base.void_slope
+        );
+        for void in [1e-15, 1e-12, 1e-9, 3e-8, 1e-6, 2e-5, 1e-3] {
+            let d = separation_for_void(void, z_s, d_b);
+            assert!(d > d_b);
+            let back = CellGeometry::at(d, z_s, d_b).void_height;
+            assert!(
+                (back - void).abs() <= 1e-12 * void + 1e-22,
+                "{void:e}: {back:e}"
+            );
         }
     }
 
