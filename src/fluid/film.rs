@@ -51,6 +51,14 @@
 //! monotonicity test (Deuflhard, Newton Methods for Nonlinear Problems, 2004, ch. 3). Should Newton stall,
 //! Gauss–Seidel sweeps (each cell solved exactly for its state, marching with the flow) take over. Both
 //! iterations solve the same discrete equations; a unit test checks that they reach the same film.
+//!
+//! At high pressure (docs/model.md §8.5, §8.7) two kinds of cells need more: where GW's metallic area
+//! covers the cell (A_m/A_n(d_dry) ≥ 1) P17 leaves the fluid no free area, and the cell is a wall that
+//! holds and takes in no fluid (cells nearly covered take in part of the film carried to them, the rest
+//! is pushed aside); where the dry separation lies below the base height with A_m/A_n < 1 the cell is
+//! closed: it holds nothing until fluid carried in lifts it above d_b, and its full branch is
+//! parametrised by its void height. Unpressurised walls and closed cells have balances independent of
+//! their unknown: their Newton rows are pinned.
 
 use std::cell::OnceCell;
 
@@ -58,6 +66,7 @@ use crate::contact::ContactGrid;
 use crate::error::{Error, Result, Stage};
 use crate::fluid::CellGeometry;
 use crate::fluid::band::Band;
+use crate::fluid::cell_geometry::separation_for_void;
 use crate::materials::MaterialState;
 use crate::microcontact::Microcontact;
 
@@ -151,7 +160,9 @@ pub struct FilmSolution {
     pub rejected: f64,
     /// Volume flow carried out at the trailing edge [m³/s].
     pub outflow: f64,
-    /// Volume flow expelled by pressure across the contact edges (inlet, sides, outlet) [m³/s].
+    /// Volume flow expelled by pressure across the contact edges (inlet, sides, outlet), and pushed aside
+    /// in front of cells that take in only part of the film carried to them (where the metallic area
+    /// nearly or fully covers the cell, docs/model.md §8.5) [m³/s].
     pub expelled: f64,
 }
 
@@ -302,21 +313,27 @@ struct CellState {
     area: f64,
     /// p_m·A_m/A_n at d [Pa].
     load: f64,
+    /// dd/du in z_s [-]: 1 on the full branch of an open cell, 0 on the unpressurised branch.
+    rise: f64,
 }
 
 impl CellState {
-    /// Full cell (u > 0, or u = 0 approached from above) at d = d_dry + u·z_s.
-    fn full(d: f64, f: &Full, z_s: f64) -> Self {
+    /// Full cell (u > 0, or u = 0 approached from above) at separation d, where d grows with u at
+    /// `rise`·z_s per unit of u: at d = d_dry + u·z_s (rise 1), or for a closed cell at the separation
+    /// where l_v(d) = u·F (rise F/(z_s·dl_v/dd), [`System::state`]).
+    fn full(d: f64, f: &Full, z_s: f64, rise: f64) -> Self {
         let lv2 = f.lv * f.lv;
+        let dd = z_s * rise;
         Self {
             d,
             p: f.p,
             lf: f.lv,
             lv: f.lv,
             g: lv2 * f.lv,
-            dp: f.dp * z_s,
-            dlf: f.dlv * z_s,
-            dg: 3.0 * lv2 * f.dlv * z_s,
+            dp: f.dp * dd,
+            dlf: f.dlv * dd,
+            dg: 3.0 * lv2 * f.dlv * dd,
+            rise,
             area: f.area,
             load: f.load,
         }
@@ -339,6 +356,43 @@ const MAX_STEP: f64 = 1.0;
 /// Smallest damping factor before Gauss–Seidel sweeps take over.
 const MIN_ALPHA: f64 = 1.0 / 1024.0;
 
+/// How a cell takes up fluid, from its dry state (the asperities alone carrying p_n, docs/model.md §8.7).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    /// A_m/A_n(d_dry) < 1 and l_v(d_dry) > 0: pressurised, the fluid lifts the surfaces above d_dry.
+    Open,
+    /// A_m/A_n(d_dry) < 1 but d_dry ≤ d_b: the voids lie below the base height, l_v(d_dry) = 0 (P8–P11).
+    /// Fluid carried in must lift the surfaces above d_b, at p_f(d_b) > 0 (P17).
+    Closed,
+    /// A_m/A_n(d_dry) ≥ 1: GW's metallic area, which overlapping asperity contacts let exceed the nominal
+    /// area at high pressure, covers the cell. No free area is left on which fluid could carry load (P17
+    /// has no solution with p_f ≥ 0 just above d_dry) or lie: the cell holds no fluid and takes in none
+    /// of the film carried to it ([`System::intake`]).
+    Wall,
+}
+
+/// The linearised balance of a pinned Newton row ([`System::newton_target`]): R ≈ Σ_m J_km·u_m − rhs.
+struct PinnedRow {
+    /// The cell k.
+    cell: usize,
+    /// Its stencil coefficients (m, J_km).
+    row: Vec<(usize, f64)>,
+    /// The right-hand side of the row.
+    rhs: f64,
+}
+
+impl PinnedRow {
+    /// The linearised balance of the cell (its inflow, the cell holding nothing) at the unknowns `u`
+    /// [m³/s].
+    fn inflow(&self, u: &[f64]) -> f64 {
+        self.row.iter().map(|(m, j)| j * u[*m]).sum::<f64>() - self.rhs
+    }
+}
+
+/// Band of A_m/A_n(d_dry) below 1 over which a cell's intake of the film carried to it falls from all to
+/// none ([`System::intake`]).
+const INTAKE_BAND: f64 = 0.005;
+
 /// The discrete film system of one problem, with the per-cell quantities that do not change in a solve.
 struct System<'a> {
     pr: &'a FilmProblem<'a>,
@@ -350,10 +404,15 @@ struct System<'a> {
     /// Scale of the fluid height in the convergence test: h_f0, at least 10⁻³·z_s [m].
     film_scale: f64,
     faces: Vec<Faces>,
-    /// l_v(d_dry) per cell [m], computed when first needed.
-    dry_void: Vec<OnceCell<f64>>,
-    /// The full state at d_dry per cell, computed when first needed.
-    dry: Vec<OnceCell<Full>>,
+    /// l_v(d_dry) per cell [m].
+    dry_void: Vec<f64>,
+    /// How each cell takes up fluid.
+    kind: Vec<Kind>,
+    /// Share of the film carried to a cell that it takes in ([`System::intake`]).
+    intake: Vec<f64>,
+    /// The full state at the opening separation ([`System::opening`]) per cell, computed when first
+    /// needed.
+    open: Vec<OnceCell<Full>>,
 }
 
 impl<'a> System<'a> {
@@ -378,6 +437,25 @@ impl<'a> System<'a> {
         let z_s = pr.micro.surface().z_s;
         let cx = grid.hy / (grid.hx * pr.flow_resistance);
         let cy = grid.hx / (grid.hy * pr.flow_resistance);
+        let mut dry_void: Vec<f64> = pr
+            .dry_separation
+            .iter()
+            .map(|d| CellGeometry::at(*d, z_s, pr.base_height).void_height)
+            .collect();
+        let kind: Vec<Kind> = (0..n)
+            .map(
+                |k| match (pr.dry_area_fraction[k] >= 1.0, dry_void[k] > 0.0) {
+                    (true, _) => Kind::Wall,
+                    (false, true) => Kind::Open,
+                    (false, false) => Kind::Closed,
+                },
+            )
+            .collect();
+        for (lv, kind) in dry_void.iter_mut().zip(&kind) {
+            if *kind == Kind::Wall {
+                *lv = 0.0;
+            }
+        }
         Ok(Self {
             pr,
             z_s,
@@ -386,8 +464,14 @@ impl<'a> System<'a> {
             supply: pr.rail_speed * grid.hy * pr.inlet_film,
             film_scale: pr.inlet_film.max(1e-3 * z_s),
             faces: (0..n).map(|k| Faces::of(grid, k, cx, cy)).collect(),
-            dry_void: vec![OnceCell::new(); n],
-            dry: vec![OnceCell::new(); n],
+            dry_void,
+            intake: pr
+                .dry_area_fraction
+                .iter()
+                .map(|a| ((1.0 - a) / INTAKE_BAND).clamp(0.0, 1.0))
+                .collect(),
+            kind,
+            open: vec![OnceCell::new(); n],
         })
     }
 
@@ -413,37 +497,103 @@ impl<'a> System<'a> {
         }
     }
 
-    /// l_v(d_dry) of cell k (cached).
+    /// The void l_v(d_dry) of cell k open to the fluid (0 for a wall) [m].
     fn dry_void(&self, k: usize) -> f64 {
-        *self.dry_void[k].get_or_init(|| {
-            CellGeometry::at(self.pr.dry_separation[k], self.z_s, self.pr.base_height).void_height
-        })
+        self.dry_void[k]
     }
 
-    /// Full state of cell k at d_dry (cached).
-    fn dry_full(&self, k: usize) -> &Full {
-        self.dry[k].get_or_init(|| self.full(k, self.pr.dry_separation[k]))
+    /// Whether cell k is a wall ([`Kind::Wall`]).
+    fn wall(&self, k: usize) -> bool {
+        self.kind[k] == Kind::Wall
     }
 
-    /// State of cell k at unknown u (left derivative at u = 0).
+    /// Whether cell k holds no fluid on its unpressurised branch ([`Kind::Closed`], [`Kind::Wall`]),
+    /// whatever its u.
+    fn closed(&self, k: usize) -> bool {
+        self.kind[k] != Kind::Open
+    }
+
+    /// The share θ of the film the surfaces carry to cell k that it takes in: 1 up to A_m/A_n(d_dry) =
+    /// 1 − [`INTAKE_BAND`], falling linearly to 0 at A_m/A_n(d_dry) = 1 (a wall takes none). The rest is
+    /// pushed aside in front of the cell and leaves the contact (counted as expelled), as the film that
+    /// a flooded inlet cannot take in is pushed aside ahead of the contact.
+    fn intake(&self, k: usize) -> f64 {
+        self.intake[k]
+    }
+
+    /// The separation at which cell k opens to the fluid, the kink u = 0 of its unknown [m]: d_dry, or
+    /// for a closed cell the base height d_b, where its void opens (docs/model.md §8.7). Between d_dry
+    /// and d_b a closed cell holds no fluid and no flow depends on its separation (g = l_v³ = 0), so its
+    /// full branch starts at d_b: there p_f(d_b) > 0 (P17) is the pressure the fluid needs to lift the
+    /// asperities to the base height, and the flows stay continuous across the kink (they carry p_f only
+    /// with g = 0 there).
+    fn opening(&self, k: usize) -> f64 {
+        let d_dry = self.pr.dry_separation[k];
+        match self.kind[k] {
+            Kind::Closed => d_dry.max(self.pr.base_height),
+            _ => d_dry,
+        }
+    }
+
+    /// Full state of cell k at its opening separation (cached).
+    fn open_full(&self, k: usize) -> &Full {
+        self.open[k].get_or_init(|| self.full(k, self.opening(k)))
+    }
+
+    /// The full state of an open or closed cell k at separation d (at or above its opening separation),
+    /// with the derivatives along its unknown u.
+    fn full_state(&self, k: usize, d: f64) -> CellState {
+        let f = self.full(k, d);
+        CellState::full(d, &f, self.z_s, self.rise(k, &f))
+    }
+
+    /// dd/du in z_s of an open or closed cell k full in the state `f`: 1, or for a closed cell, whose
+    /// unknown is its void height in F, F/(z_s·dl_v/dd).
+    fn rise(&self, k: usize, f: &Full) -> f64 {
+        if self.closed(k) {
+            self.film_scale / (self.z_s * f.dlv)
+        } else {
+            1.0
+        }
+    }
+
+    /// The unknown u ≥ 0 of cell k full at separation d with void height `lv` [m] (0 for a wall).
+    fn full_unknown(&self, k: usize, d: f64, lv: f64) -> f64 {
+        match self.kind[k] {
+            Kind::Open => ((d - self.pr.dry_separation[k]) / self.z_s).max(0.0),
+            Kind::Closed => lv / self.film_scale,
+            Kind::Wall => 0.0,
+        }
+    }
+
+    /// State of cell k at unknown u (left derivative at u = 0). Full (u > 0): d = d_dry + u·z_s for an
+    /// open cell; for a closed one the separation above d_b with l_v(d) = u·F, F the film scale (its void
+    /// height grows from zero at the kink; in d, whose l_v is flat at the kink, the linearised branch
+    /// would ask for separations many z_s too large). Unpressurised (u ≤ 0, and a wall at any u):
+    /// l_f = (1 + u)·l_v(d_dry).
     fn state(&self, k: usize, u: f64) -> CellState {
         let d_dry = self.pr.dry_separation[k];
-        if u > 0.0 {
-            let d = d_dry + u * self.z_s;
-            CellState::full(d, &self.full(k, d), self.z_s)
-        } else {
-            let lv = self.dry_void(k);
-            CellState {
-                d: d_dry,
-                p: 0.0,
-                lf: (1.0 + u) * lv,
-                lv,
-                g: lv * lv * lv,
-                dp: 0.0,
-                dlf: lv,
-                dg: 0.0,
-                area: self.pr.dry_area_fraction[k],
-                load: self.pr.dry_metal_load[k],
+        match self.kind[k] {
+            Kind::Open if u > 0.0 => self.full_state(k, d_dry + u * self.z_s),
+            Kind::Closed if u > 0.0 => self.full_state(
+                k,
+                separation_for_void(u * self.film_scale, self.z_s, self.pr.base_height),
+            ),
+            _ => {
+                let lv = self.dry_void(k);
+                CellState {
+                    d: d_dry,
+                    p: 0.0,
+                    lf: (1.0 + u) * lv,
+                    lv,
+                    g: lv * lv * lv,
+                    dp: 0.0,
+                    dlf: lv,
+                    dg: 0.0,
+                    area: self.pr.dry_area_fraction[k],
+                    load: self.pr.dry_metal_load[k],
+                    rise: 0.0,
+                }
             }
         }
     }
@@ -454,10 +604,14 @@ impl<'a> System<'a> {
         }
     }
 
-    /// Unknown u of cell k for a film (d, p_f, l_f), e.g. a previous solution.
+    /// Unknown u of cell k for a film (d, p_f, l_f), e.g. a previous solution (0 for an unpressurised
+    /// closed cell, which holds nothing).
     fn unknown(&self, k: usize, d: f64, p: f64, lf: f64) -> f64 {
         if p > 0.0 {
-            ((d - self.pr.dry_separation[k]) / self.z_s).max(0.0)
+            let lv = CellGeometry::at(d, self.z_s, self.pr.base_height).void_height;
+            self.full_unknown(k, d, lv)
+        } else if self.closed(k) {
+            0.0
         } else {
             (lf / self.dry_void(k) - 1.0).min(0.0)
         }
@@ -474,7 +628,7 @@ impl<'a> System<'a> {
     /// the inlet film up to what its void holds, min(v_r·h_y·h_f0, v_m·h_y·l_v) [m³/s].
     fn carried_in(&self, k: usize, s: &[CellState]) -> f64 {
         match self.faces[k].up {
-            Some(u) => self.carried_out(u, s),
+            Some(u) => self.intake(k) * self.carried_out(u, s),
             None => self.supply.min(self.vm * self.hy * s[k].lv),
         }
     }
@@ -510,7 +664,8 @@ impl<'a> System<'a> {
                 b,
             }
         } else {
-            let at = CellState::full(self.pr.dry_separation[k], self.dry_full(k), self.z_s);
+            let f = self.open_full(k);
+            let at = CellState::full(self.opening(k), f, self.z_s, self.rise(k, f));
             Branch {
                 a: [at.p, at.lf, at.g],
                 b: [at.dp, at.dlf, at.dg],
@@ -533,9 +688,10 @@ impl<'a> System<'a> {
                 // carried in: out of the upstream cell, reconstructed with the one upstream of that
                 let up2 = self.faces[up].up;
                 let (_, dl_in, dl_up2) = face_height(s[up].lf, up2.map(|u| s[u].lf));
-                visit(up, [0.0, vh * (dl_in - dl_up), 0.0]);
+                let intake = self.intake(k);
+                visit(up, [0.0, vh * (intake * dl_in - dl_up), 0.0]);
                 if let Some(up2) = up2 {
-                    visit(up2, [0.0, vh * dl_up2, 0.0]);
+                    visit(up2, [0.0, vh * (intake * dl_up2), 0.0]);
                 }
             }
             // the leading cell takes in v_m·h_y·l_v = v_m·h_y·g^(1/3) while that is below the supply
@@ -559,6 +715,11 @@ impl<'a> System<'a> {
     /// its new u falls on. The branches are found by active-set passes (start: the current ones; a cell
     /// exactly on the kink starts on the branch its balance asks for), each a band LU of the model
     /// Jacobian. Writes the new unknowns to `target`; false if a factorisation fails.
+    ///
+    /// A closed cell ([`System::closed`]) on the unpressurised branch holds nothing whatever its u: its
+    /// balance is the inflow alone and does not depend on u, so its row is pinned (u kept, `pinned` set)
+    /// and it joins the full branch when the linearised inflow at the new film is positive (the
+    /// complementarity min(u, −R) = 0 of such a cell: it stays dry only while nothing flows in).
     fn newton_target(
         &self,
         u: &[f64],
@@ -566,11 +727,15 @@ impl<'a> System<'a> {
         r: &[f64],
         jac: &mut Band,
         target: &mut [f64],
+        pinned: &mut [bool],
     ) -> bool {
         let n = self.len();
         let mut full: Vec<bool> = (0..n)
-            .map(|k| u[k] > 0.0 || (u[k] == 0.0 && r[k] > 0.0))
+            .map(|k| {
+                !self.wall(k) && (u[k] > 0.0 || ((u[k] == 0.0 || self.closed(k)) && r[k] > 0.0))
+            })
             .collect();
+        let mut pinned_rows: Vec<PinnedRow> = Vec::new();
         for _ in 0..MAX_PASSES {
             let model: Vec<Branch> = (0..n)
                 .map(|k| {
@@ -582,23 +747,42 @@ impl<'a> System<'a> {
                 })
                 .collect();
             jac.clear();
+            pinned_rows.clear();
             for k in 0..n {
+                pinned[k] = !full[k] && self.closed(k);
                 let mut rhs = -r[k];
+                let mut row = Vec::new();
                 self.coefficients(k, s, |m, c| {
                     let (br, q) = (&model[m], &s[m]);
-                    jac.add(k, m, c[0] * br.b[0] + c[1] * br.b[1] + c[2] * br.b[2]);
+                    let j = c[0] * br.b[0] + c[1] * br.b[1] + c[2] * br.b[2];
+                    if pinned[k] {
+                        row.push((m, j));
+                    } else {
+                        jac.add(k, m, j);
+                    }
                     rhs -=
                         c[0] * (br.a[0] - q.p) + c[1] * (br.a[1] - q.lf) + c[2] * (br.a[2] - q.g);
                 });
-                target[k] = rhs;
+                if pinned[k] {
+                    jac.add(k, k, 1.0);
+                    target[k] = u[k];
+                    pinned_rows.push(PinnedRow { cell: k, row, rhs });
+                } else {
+                    target[k] = rhs;
+                }
             }
             if !jac.factor() {
                 return false;
             }
             jac.solve(target);
             let mut same = true;
+            let mut pinned_row = pinned_rows.iter().peekable();
             for k in 0..n {
-                let f = target[k] > 0.0;
+                let f = match pinned_row.next_if(|p| p.cell == k) {
+                    // the linearised inflow of a pinned cell at the new film (a wall stays)
+                    Some(p) => !self.wall(k) && p.inflow(target) > 0.0,
+                    None => target[k] > 0.0,
+                };
                 if f != full[k] {
                     same = false;
                     full[k] = f;
@@ -611,19 +795,29 @@ impl<'a> System<'a> {
         target.iter().all(|t| t.is_finite())
     }
 
-    /// The change (as in [`Self::change`]) that `step` makes to the linearised film at `u`; None when a
-    /// cell would change branch (no linear estimate then).
-    fn predicted_change(&self, u: &[f64], s: &[CellState], step: &[f64]) -> Option<f64> {
+    /// The change (as in [`Self::change`]) that `step` makes to the linearised film at `u` with the balances
+    /// `r`; None when a cell would change branch (no linear estimate then), also a closed cell into which
+    /// fluid flows ([`Self::opens`]).
+    fn predicted_change(&self, u: &[f64], s: &[CellState], r: &[f64], step: &[f64]) -> Option<f64> {
+        if self.opens(u, r) {
+            return None;
+        }
         let mut m: f64 = 0.0;
         for ((uk, c), du) in u.iter().zip(s).zip(step) {
             let full = *uk > 0.0;
             if full != (uk + du > 0.0) {
                 return None;
             }
-            let dd = if full { du.abs() } else { 0.0 };
+            let dd = if full { (c.rise * du).abs() } else { 0.0 };
             m = m.max(dd).max((c.dlf * du).abs() / self.film_scale);
         }
         Some(m)
+    }
+
+    /// Whether fluid flows into a closed cell on the unpressurised branch (balance `r` > 0 at `u` ≤ 0): the
+    /// film is not a solution yet, however small the step, as that cell must open.
+    fn opens(&self, u: &[f64], r: &[f64]) -> bool {
+        (0..self.len()).any(|k| u[k] <= 0.0 && r[k] > 0.0 && self.closed(k))
     }
 
     /// Largest change between two films: of d in z_s and of l_f in the film scale [-].
@@ -648,11 +842,10 @@ impl<'a> System<'a> {
                 // carried in at void height l_v, and its derivative in l_v: out of the upstream cell, or
                 // the inlet film up to what the leading cell's void holds
                 let carried_in = |lv: f64| match f.up {
-                    Some(up) => (self.carried_out(up, s), 0.0),
+                    Some(up) => (self.intake(k) * self.carried_out(up, s), 0.0),
                     None if vh * lv < self.supply => (vh * lv, vh),
                     None => (self.supply, 0.0),
                 };
-                let d_dry = self.pr.dry_separation[k];
                 // volume balance of the cell as a function of its separation when full (l_f = l_v(d)),
                 // and its derivative in d
                 let balance = |full: &Full| {
@@ -670,28 +863,39 @@ impl<'a> System<'a> {
                     }
                     (r, dr)
                 };
-                let new = if balance(self.dry_full(k)).0 > 0.0 {
-                    // more fluid arrives than the cell holds at d_dry: full and pressurised
-                    let dk = root_decreasing(
-                        |d| balance(&self.full(k, d)),
-                        d_dry,
-                        s[k].d,
-                        self.z_s,
-                        1e-13 * self.z_s,
-                    )?;
-                    u[k] = ((dk - d_dry) / self.z_s).max(0.0);
-                    CellState::full(dk, &self.full(k, dk), self.z_s)
-                } else {
-                    // unpressurised: the film height follows from the inflow, which it carries out
-                    let lv = self.dry_void(k);
-                    let gk = lv * lv * lv;
-                    let mut inflow = carried_in(lv).0;
-                    for &(nb, cf) in f.neighbours() {
-                        inflow += cf * harmonic(gk, s[nb].g) * s[nb].p;
+                let new = match self.kind[k] {
+                    // a wall holds nothing
+                    Kind::Wall => self.state(k, u[k]),
+                    Kind::Open | Kind::Closed if balance(self.open_full(k)).0 > 0.0 => {
+                        // more fluid arrives than the cell holds at d_dry (or, closed, at d_b): full
+                        // and pressurised
+                        let dk = root_decreasing(
+                            |d| balance(&self.full(k, d)),
+                            self.opening(k),
+                            s[k].d,
+                            self.z_s,
+                            1e-13 * self.z_s,
+                        )?;
+                        let new = self.full_state(k, dk);
+                        u[k] = self.full_unknown(k, dk, new.lv);
+                        new
                     }
-                    let lf = face_height_inverse(inflow / vh, l_up)?;
-                    u[k] = (lf.min(lv) / lv - 1.0).min(0.0);
-                    self.state(k, u[k])
+                    _ => {
+                        // unpressurised: the film height follows from the inflow, which it carries out
+                        let lv = self.dry_void(k);
+                        let gk = lv * lv * lv;
+                        let mut inflow = carried_in(lv).0;
+                        for &(nb, cf) in f.neighbours() {
+                            inflow += cf * harmonic(gk, s[nb].g) * s[nb].p;
+                        }
+                        u[k] = if lv > 0.0 {
+                            let lf = face_height_inverse(inflow / vh, l_up)?;
+                            (lf.min(lv) / lv - 1.0).min(0.0)
+                        } else {
+                            0.0
+                        };
+                        self.state(k, u[k])
+                    }
                 };
                 change = change
                     .max((new.d - s[k].d).abs() / self.z_s)
@@ -751,6 +955,12 @@ impl<'a> System<'a> {
             }
             if f.down.is_none() {
                 sol.outflow += self.carried_out(k, s);
+            }
+            match f.up {
+                Some(up) if self.intake(k) < 1.0 => {
+                    sol.expelled += (1.0 - self.intake(k)) * self.carried_out(up, s);
+                }
+                _ => {}
             }
             sol.expelled += f.edge * c.g * c.p;
         }
@@ -842,13 +1052,14 @@ impl System<'_> {
             f.neighbours().iter().map(|(k, _)| *k).chain(up2)
         }));
         let (mut step, mut simplified) = (vec![0.0; n], vec![0.0; n]);
+        let mut pinned = vec![false; n];
         let (mut u_t, mut s_t, mut r_t) = (u.clone(), s.clone(), r.clone());
         let mut iterations = 0;
         let mut change = f64::INFINITY;
         let mut converged = false;
         while iterations < limit {
             iterations += 1;
-            if !self.newton_target(&u, &s, &r, &mut jac, &mut step) {
+            if !self.newton_target(&u, &s, &r, &mut jac, &mut step, &mut pinned) {
                 break;
             }
             for (d, uk) in step.iter_mut().zip(&u) {
@@ -856,7 +1067,7 @@ impl System<'_> {
             }
             // converged where the Newton correction itself is below the tolerance: the film at u is
             // returned, within that correction of the solution
-            if let Some(c) = self.predicted_change(&u, &s, &step) {
+            if let Some(c) = self.predicted_change(&u, &s, &r, &step) {
                 if c <= self.pr.tolerance {
                     change = c;
                     converged = true;
@@ -875,19 +1086,20 @@ impl System<'_> {
                 self.residual(&s_t, &mut r_t);
                 let change_t = self.change(&s, &s_t);
                 // a full step below the tolerance is final (the test may sit at rounding level there)
-                if alpha == 1.0 && change_t <= self.pr.tolerance {
+                if alpha == 1.0 && change_t <= self.pr.tolerance && !self.opens(&u_t, &r_t) {
                     accepted = Some((change_t, true));
                     break;
                 }
-                for (b, rk) in simplified.iter_mut().zip(&r_t) {
-                    *b = -rk;
+                for ((b, rk), pin) in simplified.iter_mut().zip(&r_t).zip(&pinned) {
+                    // a pinned row keeps its u
+                    *b = if *pin { 0.0 } else { -rk };
                 }
                 jac.solve(&mut simplified);
                 if norm2(&simplified).sqrt() <= (1.0 - 0.25 * alpha) * norm {
                     // after a full step the simplified correction estimates the next Newton correction:
                     // converged when that is below the tolerance (the error-oriented test of NLEQ-ERR)
                     let next = match alpha == 1.0 {
-                        true => self.predicted_change(&u_t, &s_t, &simplified),
+                        true => self.predicted_change(&u_t, &s_t, &r_t, &simplified),
                         false => None,
                     };
                     accepted = Some(match next {
@@ -1013,8 +1225,12 @@ mod tests {
 
         /// As [`Case::new`] with a trailing-edge temperature rise `rise` [K].
         fn heated(pt: &OperatingPoint, rise: f64) -> Self {
-            let params = Params::default();
-            let hertz = normal_contact(&params, pt.normal_force).unwrap();
+            Self::of(&Params::default(), pt, rise)
+        }
+
+        /// As [`Case::heated`] with the parameters `params`.
+        fn of(params: &Params, pt: &OperatingPoint, rise: f64) -> Self {
+            let hertz = normal_contact(params, pt.normal_force).unwrap();
             let grid = ContactGrid::for_contact(&hertz, params.grid.nx, params.grid.ny);
             let p_n: Vec<f64> = grid
                 .cells
@@ -1263,6 +1479,90 @@ mod tests {
         let (_, thin, supply, flooded) = solved(0.005);
         assert!(!flooded && thin.rejected == 0.0);
         assert!((thin.inflow - supply).abs() <= 1e-12 * supply);
+    }
+
+    /// Newton's film, converged without the Gauss–Seidel fallback, checked against the equations and
+    /// against the Gauss–Seidel reference (to 1e-8).
+    fn newton_film_matching_the_reference(c: &Case) -> FilmSolution {
+        let newton = solve_film(&c.problem(1e-10, 100), None).unwrap();
+        assert!(
+            newton.converged && newton.iterations < NEWTON_LIMIT,
+            "{} iterations, residual {:e}",
+            newton.iterations,
+            newton.residual
+        );
+        check_equations(&newton, c);
+        let pr = c.problem(1e-12, 100_000);
+        let reference = System::new(&pr)
+            .unwrap()
+            .gauss_seidel(vec![-1.0; c.grid.len()], 100_000)
+            .unwrap();
+        assert!(reference.converged);
+        let dist = distance(&newton, &reference, c);
+        assert!(dist < 1e-8, "films differ by {dist:e}");
+        newton
+    }
+
+    /// A small contact at p0 = 2.5 GPa (10 kN on a = b = 1.38 mm): GW's metallic area exceeds the nominal
+    /// area at the centre (A_m/A_n(d_dry) up to 1.5, d_dry below d_b), where P17 has no solution with
+    /// p_f ≥ 0 just above d_dry. Those cells hold no fluid and take none in; the cells around them take in
+    /// less as A_m/A_n(d_dry) nears 1; what they do not take in is pushed aside (expelled). The film
+    /// solves (it failed with "no separation balances the cell" before, docs/model.md §8.5).
+    #[test]
+    fn cells_covered_by_metal_take_in_no_film() {
+        let mut params = Params::default();
+        params.geometry.semi_axes = Some([1.381976597885342e-3; 2]);
+        for (xi, w) in [(1e-6, 0.3), (0.01, 1.0), (0.02, 0.05)] {
+            let c = Case::of(&params, &point(xi, 30.0, w, 10e3), 2000.0 * xi);
+            let covered: Vec<usize> = (0..c.grid.len())
+                .filter(|k| c.dry_area[*k] >= 1.0)
+                .collect();
+            assert!(covered.len() > 100, "{} covered cells", covered.len());
+            let sol = newton_film_matching_the_reference(&c);
+            for &k in &covered {
+                assert_eq!(sol.fluid_height[k], 0.0, "cell {k} holds fluid");
+                assert_eq!(sol.fluid_pressure[k], 0.0);
+            }
+            // fluid reaches the covered cells' fronts and is pushed aside there
+            let pr = c.problem(1e-10, 100);
+            let system = System::new(&pr).unwrap();
+            let pushed: f64 = (0..c.grid.len())
+                .filter(|k| system.intake(*k) < 1.0)
+                .filter_map(|k| {
+                    c.grid
+                        .cell_at(c.grid.cells[k].i as isize + 1, c.grid.cells[k].j as isize)
+                })
+                .map(|up| sol.fluid_height[up])
+                .sum();
+            assert!(pushed > 0.0);
+            assert!(sol.expelled > 0.0 && sol.inflow > 0.0);
+            assert!(sol.fluid_pressure.iter().any(|p| *p > 0.0));
+        }
+    }
+
+    /// With a small GW density β = 0.04 the asperities alone carry the centre pressure of the default
+    /// contact (1.03 GPa) only below the base height, with A_m/A_n(d_dry) < 1: the voids are closed there
+    /// (l_v(d_dry) = 0). Fluid carried in lifts them above d_b, to a finite pressure p_f(d_b) and more
+    /// (docs/model.md §8.7); the film solves (it failed before).
+    #[test]
+    fn closed_cells_open_above_the_base_height() {
+        let mut params = Params::default();
+        params.roughness.beta = 0.04;
+        let c = Case::of(&params, &point(0.01, 30.0, 1.0, 100e3), 20.0);
+        let closed: Vec<usize> = (0..c.grid.len())
+            .filter(|k| c.dry_d[*k] <= c.base_height)
+            .collect();
+        assert!(!closed.is_empty());
+        assert!(closed.iter().all(|k| c.dry_area[*k] < 1.0));
+        let sol = newton_film_matching_the_reference(&c);
+        let mut lifted = 0;
+        for &k in &closed {
+            if sol.fluid_height[k] > 0.0 {
+                assert!(sol.separation[k] > c.base_height && sol.fluid_pressure[k] > 0.0);
+                lifted += 1;
+            }
+        }
+        assert!(lifted > 0);
     }
 
     #[test]
