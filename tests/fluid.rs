@@ -324,3 +324,45 @@ fn the_film_reports_the_balance_and_the_rejected_inflow_of_its_fields() {
     assert_eq!(s.global.fluid_rejected_fraction, Some(0.0));
     assert_eq!(s.report.fluid_balance_residual, 0.0);
 }
+
+/// A small, hard, wet contact (10 kN on a = b = 1.38 mm, p0 = 2.5 GPa): GW's metallic area covers the
+/// nominal area at the centre (A_m/A_n ≥ 1), where P17 leaves the fluid no free area (docs/model.md §8.5).
+/// The point reported as "no separation balances the cell" solves, and so does a creepage line started
+/// point by point from its predecessor, as a table line is built; no fluid lies where the metal covers
+/// the cell, and the volume balance holds.
+#[test]
+fn a_small_hard_wet_contact_solves() {
+    let mut p = Params::default();
+    p.geometry.semi_axes = Some([0.001381976597885342; 2]);
+    let reported = OperatingPoint {
+        creepage_x: 1e-6,
+        normal_force: 1e4,
+        wetness: 0.3,
+        ..Default::default()
+    };
+    let points: Vec<OperatingPoint> = [0.0, 1e-3, 3e-3, 1e-2, 3e-2, 0.1]
+        .iter()
+        .map(|xi| OperatingPoint {
+            creepage_x: *xi,
+            creepage_y: 0.005,
+            spin: 0.5,
+            wetness: 1.0,
+            ..reported
+        })
+        .collect();
+    let line = wheelrail::solver::solve_sweep(&p, &points);
+    for s in std::iter::once(solve(&p, &reported)).chain(line) {
+        let s = s.unwrap();
+        assert!(s.report.converged, "{:?}", s.report);
+        let g = &s.global;
+        assert!((0.0..1.0).contains(&g.fluid_load_fraction.unwrap()));
+        assert!(g.fluid_mass_balance_error.unwrap().abs() < 1e-6);
+        let f = s.fields.unwrap();
+        let covered = (0..f.grid.len()).filter(|k| f.area_fraction[*k] >= 1.0);
+        assert!(covered.clone().count() > 0);
+        for k in covered {
+            assert_eq!(f.fluid_height[k], 0.0);
+            assert_eq!(f.fluid_pressure[k], 0.0);
+        }
+    }
+}
