@@ -366,3 +366,43 @@ fn a_small_hard_wet_contact_solves() {
         }
     }
 }
+
+/// A point whose film finds no solution (a large hard contact, p0 = 2.47 GPa, flooded at 64.5 m/s, pure
+/// spin): Newton stalls next to the cells covered by metal and the Gauss–Seidel fallback finds no root
+/// of a cell. The solve no longer fails: it keeps Newton's last film and, once the temperature has
+/// settled, stops and reports the point unconverged, stalled on the film (docs/model.md §9); its forces
+/// are finite. (The same line converges at ξ = 1 %.)
+#[test]
+fn a_point_whose_film_has_no_solution_is_reported_unconverged() {
+    let mut p = Params::default();
+    let (a_over_b, p0, normal_force) = (1.4534352169838594, 2472334359.8720284, 110397.04039006485);
+    let ab = 3.0 * normal_force / (2.0 * std::f64::consts::PI * p0);
+    p.geometry.semi_axes = Some([(ab * a_over_b).sqrt(), (ab / a_over_b).sqrt()]);
+    let pt = OperatingPoint {
+        creepage_x: 0.0,
+        creepage_y: 0.0,
+        spin: 0.5738333081387637,
+        normal_force,
+        speed: 64.51293676475127,
+        wetness: 0.8269545995236826,
+    };
+    let s = solve(&p, &pt).unwrap();
+    assert_eq!(
+        s.report.termination,
+        wheelrail::solver::Termination::Stalled {
+            limited_by: wheelrail::solver::Limiter::Film
+        }
+    );
+    assert!(!s.report.converged && s.report.iterations < p.solver.max_iterations);
+    let g = &s.global;
+    assert!(g.force_x.is_finite() && g.force_y.is_finite() && g.max_temperature.unwrap() > 293.0);
+    let converged = solve(
+        &p,
+        &OperatingPoint {
+            creepage_x: 0.01,
+            ..pt
+        },
+    )
+    .unwrap();
+    assert!(converged.report.converged, "{:?}", converged.report);
+}

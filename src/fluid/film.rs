@@ -998,42 +998,59 @@ impl FilmSolution {
 /// cold) with the rest of the iteration budget.
 pub fn solve_film(pr: &FilmProblem, warm: Option<FilmStart>) -> Result<FilmSolution> {
     let sys = System::new(pr)?;
-    let n = sys.len();
-    let start: Option<Vec<f64>> = match warm {
-        Some(w)
-            if w.separation.len() == n
-                && w.fluid_pressure.len() == n
-                && w.fluid_height.len() == n =>
-        {
-            Some(
-                (0..n)
-                    .map(|k| {
-                        sys.unknown(k, w.separation[k], w.fluid_pressure[k], w.fluid_height[k])
-                    })
-                    .collect(),
-            )
-        }
-        _ => None,
-    };
-    let limit = pr.max_iterations.min(NEWTON_LIMIT);
-    let mut newton = sys.newton(start.clone().unwrap_or_else(|| vec![0.0; n]), limit);
-    if !newton.converged && start.is_some() && newton.iterations < pr.max_iterations {
-        // a warm start is only a guess: from the film of another temperature (a hot, heavily loaded point
-        // whose outer iteration moves the temperature by tens of kelvin) Newton can stall where it converges
-        // from the just-full film; restart from there before falling back to Gauss–Seidel
-        let used = newton.iterations;
-        newton = sys.newton(vec![0.0; n], limit.min(pr.max_iterations - used));
-        newton.iterations += used;
-    }
+    let newton = sys.newton_from(warm);
     if newton.converged || newton.iterations >= pr.max_iterations {
         return Ok(newton);
     }
-    let mut sol = sys.gauss_seidel(vec![-1.0; n], pr.max_iterations - newton.iterations)?;
+    let mut sol = sys.gauss_seidel(vec![-1.0; sys.len()], pr.max_iterations - newton.iterations)?;
     sol.iterations += newton.iterations;
     Ok(sol)
 }
 
+/// The film of [`solve_film`] without its Gauss–Seidel fallback: Newton's last film, converged or not (its
+/// `converged` says which). The coupled solver keeps it, and reports the point unconverged, where the
+/// fallback finds no film either (docs/model.md §9).
+pub fn solve_film_newton(pr: &FilmProblem, warm: Option<FilmStart>) -> Result<FilmSolution> {
+    Ok(System::new(pr)?.newton_from(warm))
+}
+
 impl System<'_> {
+    /// Newton from `warm` (a previous film on the same grid) or else from every cell just full without
+    /// pressure (u = 0), restarted from there if it stalls from the warm start (within the iteration
+    /// budget).
+    fn newton_from(&self, warm: Option<FilmStart>) -> FilmSolution {
+        let n = self.len();
+        let start: Option<Vec<f64>> = match warm {
+            Some(w)
+                if w.separation.len() == n
+                    && w.fluid_pressure.len() == n
+                    && w.fluid_height.len() == n =>
+            {
+                Some(
+                    (0..n)
+                        .map(|k| {
+                            self.unknown(k, w.separation[k], w.fluid_pressure[k], w.fluid_height[k])
+                        })
+                        .collect(),
+                )
+            }
+            _ => None,
+        };
+        let budget = self.pr.max_iterations;
+        let limit = budget.min(NEWTON_LIMIT);
+        let mut newton = self.newton(start.clone().unwrap_or_else(|| vec![0.0; n]), limit);
+        if !newton.converged && start.is_some() && newton.iterations < budget {
+            // a warm start is only a guess: from the film of another temperature (a hot, heavily loaded
+            // point whose outer iteration moves the temperature by tens of kelvin) Newton can stall where
+            // it converges from the just-full film; restart from there before falling back to
+            // Gauss–Seidel
+            let used = newton.iterations;
+            newton = self.newton(vec![0.0; n], limit.min(budget - used));
+            newton.iterations += used;
+        }
+        newton
+    }
+
     /// Damped semismooth Newton iteration from `u` (at most `limit` iterations). Each step is damped until
     /// the simplified Newton correction at the new film is smaller than the step (natural monotonicity
     /// test: Deuflhard, Newton Methods for Nonlinear Problems, 2004, ch. 3). Converged when the Newton

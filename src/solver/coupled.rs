@@ -10,7 +10,7 @@ use super::backtracking::Backtracking;
 use super::closed_form::solve_polach;
 use super::local::{Adhesion, Local};
 use super::relaxation::Relaxation;
-use super::report::{SolverReport, Termination, first_unmet};
+use super::report::{Limiter, SolverReport, Termination, first_unmet};
 use super::setup::{Setup, normal_contact};
 use super::solution::Solution;
 use super::warm::WarmStart;
@@ -81,6 +81,8 @@ struct Coupled<'s, 'w> {
     heat_solution: Option<HeatSolution>,
     relaxation: Relaxation,
     backtracking: Backtracking,
+    /// Whether this iteration's film had no solution (Newton's last film kept, see [`Coupled::local`]).
+    film_failed: bool,
     report: SolverReport,
 }
 
@@ -114,6 +116,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
             heat_solution: None,
             relaxation: Relaxation::new(setup.params.solver.relaxation),
             backtracking: Backtracking::default(),
+            film_failed: false,
             report: SolverReport::start(),
         }
     }
@@ -145,6 +148,11 @@ impl<'s, 'w> Coupled<'s, 'w> {
                 Some(limited_by) if self.report.iterations >= solver.max_iterations => {
                     Termination::MaxIterationsReached { limited_by }
                 }
+                // the temperature has settled and the film has no solution: the next iteration would
+                // solve the same film
+                Some(Limiter::Film) if outer_met && self.film_failed => Termination::Stalled {
+                    limited_by: Limiter::Film,
+                },
                 Some(_) => {
                     self.update(step, increment);
                     continue;
@@ -201,7 +209,10 @@ impl<'s, 'w> Coupled<'s, 'w> {
 
     /// Microcontact and film at the materials `mats`; None after a backtrack (the film had no solution at
     /// the updated temperature: the update is halved back, the relaxation damped, the film restarted
-    /// cold). A backtrack at the iteration limit is an error.
+    /// cold). Where the film has no solution and no backtrack is left (at the first iteration, after
+    /// MAX_BACKTRACKS, at the iteration limit), the iteration goes on with Newton's last film, which is not
+    /// converged: the report says so (limited by the film, stalled once the temperature has settled)
+    /// unless a later iteration's film converges.
     fn local(&mut self, mats: &[MaterialState]) -> Result<Option<Local>> {
         let film_tolerance = self.film_tolerance();
         let start = self
@@ -209,30 +220,44 @@ impl<'s, 'w> Coupled<'s, 'w> {
             .as_ref()
             .map(FilmSolution::as_start)
             .or(self.warm_film.take());
-        let error = match self.setup.local(
-            mats,
-            self.dry_guess.as_deref(),
-            start,
-            film_tolerance,
-            &mut self.report,
-        ) {
+        let local = |setup: &Setup, fallback, report: &mut SolverReport| {
+            setup.local(
+                mats,
+                self.dry_guess.as_deref(),
+                start,
+                film_tolerance,
+                fallback,
+                report,
+            )
+        };
+        self.film_failed = false;
+        let error = match local(self.setup, true, &mut self.report) {
             Ok(local) => return Ok(Some(local)),
             Err(e) => e,
         };
-        self.backtracking.step_back(
+        let film = matches!(
+            error,
+            Error::Numerical {
+                stage: Stage::Fluid,
+                ..
+            }
+        );
+        let stepped_back = self.backtracking.step_back(
             error,
             self.report.temperature_backtracks,
             &mut self.temperature,
-        )?;
+        );
+        match stepped_back {
+            Ok(()) if self.report.iterations < self.setup.params.solver.max_iterations => {}
+            Err(e) if !film => return Err(e),
+            _ => {
+                self.film_failed = true;
+                return local(self.setup, false, &mut self.report).map(Some);
+            }
+        }
         self.relaxation.damp();
         self.film = None;
         self.report.temperature_backtracks += 1;
-        if self.report.iterations >= self.setup.params.solver.max_iterations {
-            return Err(Error::Numerical {
-                stage: Stage::CoupledSolver,
-                reason: "the fluid film has no solution along the temperature iteration".into(),
-            });
-        }
         Ok(None)
     }
 

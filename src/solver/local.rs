@@ -4,7 +4,7 @@
 use super::report::SolverReport;
 use super::setup::{Setup, surface_speeds};
 use crate::error::{Error, Result, Stage};
-use crate::fluid::{FilmProblem, FilmSolution, FilmStart, Regime, solve_film};
+use crate::fluid::{FilmProblem, FilmSolution, FilmStart, Regime, solve_film, solve_film_newton};
 use crate::friction;
 use crate::materials::MaterialState;
 use crate::params::FrictionLaw;
@@ -51,12 +51,15 @@ impl Setup<'_> {
     /// Microcontact (and, when wet, the fluid film) at the cells' material states.
     /// `fluid_tolerance` is the film sweep tolerance for this outer iteration.
     /// `dry_guess`: per-cell separations to start the microcontact Newton from (the previous iterate).
+    /// `fallback`: whether the film falls back to Gauss–Seidel sweeps where Newton stalls
+    /// ([`solve_film`]), or keeps Newton's last film ([`solve_film_newton`]).
     pub fn local(
         &self,
         mats: &[MaterialState],
         dry_guess: Option<&[f64]>,
         warm: Option<FilmStart>,
         fluid_tolerance: f64,
+        fallback: bool,
         report: &mut SolverReport,
     ) -> Result<Local> {
         let dry = self.dry(mats, dry_guess, report)?;
@@ -74,7 +77,7 @@ impl Setup<'_> {
                 film: None,
             });
         }
-        let film = self.film(mats, &dry, h_f0, warm, fluid_tolerance)?;
+        let film = self.film(mats, &dry, h_f0, warm, fluid_tolerance, fallback)?;
         report.fluid_sweeps = film.iterations;
         report.fluid_residual = film.residual;
         report.fluid_balance_residual = film.balance_residual;
@@ -145,7 +148,7 @@ impl Setup<'_> {
     }
 
     /// The film (P12–P17, docs/model.md §8) on the dry state at the inlet film `h_f0` [m], started from
-    /// `warm`, to `tolerance`.
+    /// `warm`, to `tolerance`, with or without the Gauss–Seidel `fallback`.
     fn film(
         &self,
         mats: &[MaterialState],
@@ -153,9 +156,15 @@ impl Setup<'_> {
         h_f0: f64,
         warm: Option<FilmStart>,
         tolerance: f64,
+        fallback: bool,
     ) -> Result<FilmSolution> {
         let (v_w, v_r) = surface_speeds(self.point);
-        solve_film(
+        let solve = if fallback {
+            solve_film
+        } else {
+            solve_film_newton
+        };
+        solve(
             &FilmProblem {
                 grid: &self.grid,
                 nominal_pressure: &self.p_n,

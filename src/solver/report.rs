@@ -14,7 +14,8 @@ pub enum Limiter {
     /// iteration was above `solver.tolerance` (or the last film was solved only to the looser tolerance of
     /// an early iteration): `solver.max_iterations` was too few.
     Outer,
-    /// The fluid film solve of the last outer iteration did not converge within `solver.max_fluid_sweeps`.
+    /// The fluid film solve of the last outer iteration did not converge within `solver.max_fluid_sweeps`,
+    /// or found no film at all ([`Termination::Stalled`]).
     Film,
     /// The heat partition's GMRES of the last outer iteration did not reach its tolerance.
     Heat,
@@ -55,8 +56,8 @@ pub(super) fn first_unmet(
 /// Why the outer iteration stopped.
 ///
 /// In JSON (flattened into [`SolverReport`]'s object) it is two keys: `termination` ("converged",
-/// "max_iterations_reached" or "closed_form") and `limited_by` ("outer", "film", "heat", or null unless
-/// the iteration limit was reached).
+/// "max_iterations_reached", "stalled" or "closed_form") and `limited_by` ("outer", "film", "heat", or null
+/// unless the iteration limit was reached or the iteration stalled).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Termination {
     /// Every criterion was met: the outer residual, the film and the heat partition.
@@ -68,6 +69,13 @@ pub enum Termination {
         /// The solver whose criterion was unmet at the last iteration.
         limited_by: Limiter,
     },
+    /// The iteration stopped before its limit because further iterations could not help: the outer
+    /// residual was met, but the film of the last iteration had no solution (neither Newton nor the
+    /// Gauss–Seidel fallback converged; the result holds Newton's last film). The result is NOT converged.
+    Stalled {
+        /// The inner solver without solution (the film).
+        limited_by: Limiter,
+    },
     /// A closed-form law (Polach) needs no iteration.
     ClosedForm,
 }
@@ -75,22 +83,24 @@ pub enum Termination {
 impl Termination {
     /// Whether the result is a solution: converged, or closed form.
     pub fn converged(self) -> bool {
-        !matches!(self, Termination::MaxIterationsReached { .. })
+        matches!(self, Termination::Converged | Termination::ClosedForm)
     }
 
     /// The solver that kept the iteration from converging (None if it did not).
     pub fn limited_by(self) -> Option<Limiter> {
         match self {
-            Termination::MaxIterationsReached { limited_by } => Some(limited_by),
+            Termination::MaxIterationsReached { limited_by }
+            | Termination::Stalled { limited_by } => Some(limited_by),
             _ => None,
         }
     }
 
-    /// The `termination` text: "converged", "max_iterations_reached" or "closed_form".
+    /// The `termination` text: "converged", "max_iterations_reached", "stalled" or "closed_form".
     pub fn name(self) -> &'static str {
         match self {
             Termination::Converged => "converged",
             Termination::MaxIterationsReached { .. } => "max_iterations_reached",
+            Termination::Stalled { .. } => "stalled",
             Termination::ClosedForm => "closed_form",
         }
     }
@@ -259,6 +269,13 @@ mod tests {
         assert_eq!(v["termination"], "converged");
         assert!(v["limited_by"].is_null());
         assert_eq!(v["converged"], true);
+        r.stop(Termination::Stalled {
+            limited_by: Limiter::Film,
+        });
+        let v = serde_json::to_value(r).unwrap();
+        assert_eq!(v["termination"], "stalled");
+        assert_eq!(v["limited_by"], "film");
+        assert_eq!(v["converged"], false);
         let v = serde_json::to_value(SolverReport::closed_form()).unwrap();
         assert_eq!(v["termination"], "closed_form");
         assert!(v["limited_by"].is_null());
