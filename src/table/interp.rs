@@ -14,19 +14,84 @@
 //! value is v = Σ_j w_j·y_j over the four window nodes with **data-dependent weights** w_j = ∂v/∂y_j: a
 //! fibre evaluation returns them, which is what tensor-product evaluation and exact derivatives need.
 //!
-//! **Linear:** weights (1 − t, t).
+//! **Linear (simplex):** the linearly interpolated dimensions together are interpolated on the Kuhn
+//! (Freudenthal) triangulation of their grid cell: with the fractions t_d ∈ [0, 1] of the coordinates in
+//! their intervals sorted in descending order t_(o0) ≥ t_(o1) ≥ …, the value is that of the simplex with
+//! corners v_0 = the cell's lowest node, v_(k+1) = v_k + e_(ok), weights 1 − t_(o0), t_(o0) − t_(o1), …,
+//! t_(o(K−1)): K + 1 corners instead of the 2^K of multilinear interpolation (6 instead of 32 for the five
+//! linear dimensions), continuous, exact for affine data, and a convex combination of node values (so it
+//! keeps the monotonicity of the creep curves along the cubic axes). A single-point axis contributes
+//! nothing (its coordinate is that point).
 
-use super::axes::{Axis, Interpolation};
+use super::axes::{Axis, Interpolation, LINEAR_DIMS};
 
-/// Linear weights of nodes start, start + 1 at one coordinate, and their derivatives [1/unit].
+/// Number of corners of a simplex of the linear dimensions.
+pub const CORNERS: usize = LINEAR_DIMS + 1;
+
+/// Where a coordinate lies on a linear axis: interval start node, fraction t ∈ [0, 1], and the inverse
+/// interval length (0 on a single-point axis, whose t is 0).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct LinearStencil {
-    /// First node.
+pub struct Fraction {
+    /// First node of the interval.
     pub start: usize,
-    /// Weights.
-    pub w: [f64; 2],
-    /// Derivatives of the weights with respect to the coordinate.
-    pub dw: [f64; 2],
+    /// Position in the interval [-].
+    pub t: f64,
+    /// 1/(x_(start+1) − x_start) [1/unit]; 0 on a single-point axis.
+    pub inv_h: f64,
+}
+
+/// The Kuhn simplex of the linear dimensions at one point: corner 0 is the node `start`, corner k + 1 lies
+/// one node further along dimension `order[k]` than corner k; weights and their derivatives.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Simplex {
+    /// Node index along each linear dimension at corner 0.
+    pub start: [usize; LINEAR_DIMS],
+    /// The dimension stepped from corner k to k + 1 (fractions in descending order).
+    pub order: [usize; LINEAR_DIMS],
+    /// Whether dimension `order[k]` has a next node (false on single-point axes: no step).
+    pub steps: [bool; LINEAR_DIMS],
+    /// Corner weights (≥ 0, sum 1).
+    pub w: [f64; CORNERS],
+    /// ∂w_c/∂x_d: derivatives of the weights with respect to each linear coordinate [1/unit].
+    pub dw: [[f64; CORNERS]; LINEAR_DIMS],
+}
+
+impl Simplex {
+    /// The simplex of the fractions `f` of the linear coordinates (ties keep the dimension order, so the
+    /// result is deterministic).
+    #[inline(always)]
+    pub fn of(f: &[Fraction; LINEAR_DIMS]) -> Simplex {
+        let mut order: [usize; LINEAR_DIMS] = std::array::from_fn(|d| d);
+        // insertion sort by descending t (five elements)
+        for i in 1..LINEAR_DIMS {
+            let mut j = i;
+            while j > 0 && f[order[j - 1]].t < f[order[j]].t {
+                order.swap(j - 1, j);
+                j -= 1;
+            }
+        }
+        let mut w = [0.0; CORNERS];
+        let mut dw = [[0.0; CORNERS]; LINEAR_DIMS];
+        w[0] = 1.0 - f[order[0]].t;
+        for k in 0..LINEAR_DIMS {
+            let d = order[k];
+            let next = if k + 1 < LINEAR_DIMS {
+                f[order[k + 1]].t
+            } else {
+                0.0
+            };
+            w[k + 1] = f[d].t - next;
+            dw[d][k] = -f[d].inv_h;
+            dw[d][k + 1] = f[d].inv_h;
+        }
+        Simplex {
+            start: std::array::from_fn(|d| f[d].start),
+            order,
+            steps: std::array::from_fn(|k| f[order[k]].inv_h > 0.0),
+            w,
+            dw,
+        }
+    }
 }
 
 /// The cubic window at one coordinate: nodes start..start + 4 (start = −1: the mirror image of node 1),
@@ -310,12 +375,16 @@ impl AxisInterp {
         }
     }
 
-    /// The coordinate clamped to the axis (lowest stored point to highest) and whether it was inside.
+    /// The coordinate clamped to the axis (lowest stored point to highest) and whether it was inside. On
+    /// a single-point axis, inside means within a relative 1e-9 of the point (rounding of the coordinate's
+    /// computation, e.g. p_ref of a Hertz contact at another load).
     #[inline]
     pub fn clamp(&self, x: f64) -> (f64, bool) {
         let lo = self.points[0];
         let hi = self.points[self.points.len() - 1];
-        if x < lo {
+        if self.points.len() == 1 {
+            (lo, (x - lo).abs() <= 1e-9 * lo.abs())
+        } else if x < lo {
             (lo, false)
         } else if x > hi {
             (hi, false)
@@ -332,15 +401,17 @@ impl AxisInterp {
         (i, (x - self.points[i]) * self.inv_h[i])
     }
 
-    /// Linear weights at `x` (inside the stored range).
+    /// The interval and fraction of `x` (inside the stored range) on a linear axis.
     #[inline]
-    pub fn linear(&self, x: f64) -> LinearStencil {
+    pub fn fraction(&self, x: f64) -> Fraction {
+        if self.points.len() == 1 {
+            return Fraction::default();
+        }
         let (i, t) = self.locate(x);
-        let ih = self.inv_h[i];
-        LinearStencil {
+        Fraction {
             start: i,
-            w: [1.0 - t, t],
-            dw: [-ih, ih],
+            t,
+            inv_h: self.inv_h[i],
         }
     }
 
@@ -383,6 +454,7 @@ mod tests {
             &Axis {
                 points: points.to_vec(),
                 mirrored,
+                raw_limit: None,
             },
             Interpolation::Cubic,
         )
@@ -528,20 +600,112 @@ mod tests {
     }
 
     #[test]
-    fn linear_weights_and_clamping() {
-        let ai = AxisInterp::new(
-            &Axis {
-                points: vec![1.0, 2.0, 4.0],
-                mirrored: false,
-            },
-            Interpolation::Linear,
+    fn linear_fractions_and_clamping() {
+        let axis = |points: Vec<f64>| {
+            AxisInterp::new(
+                &Axis {
+                    points,
+                    mirrored: false,
+                    raw_limit: None,
+                },
+                Interpolation::Linear,
+            )
+        };
+        let ai = axis(vec![1.0, 2.0, 4.0]);
+        assert_eq!(
+            ai.fraction(3.0),
+            Fraction {
+                start: 1,
+                t: 0.5,
+                inv_h: 0.5
+            }
         );
-        let st = ai.linear(3.0);
-        assert_eq!((st.start, st.w, st.dw), (1, [0.5, 0.5], [-0.5, 0.5]));
-        let st = ai.linear(4.0);
-        assert_eq!((st.start, st.w[1]), (1, 1.0));
+        let f = ai.fraction(4.0);
+        assert_eq!((f.start, f.t), (1, 1.0));
         assert_eq!(ai.clamp(5.0), (4.0, false));
         assert_eq!(ai.clamp(0.0), (1.0, false));
         assert_eq!(ai.clamp(1.5), (1.5, true));
+        // a single point: inside only at the point (to rounding), never a step
+        let one = axis(vec![7e8]);
+        assert_eq!(one.clamp(7e8 * (1.0 + 1e-12)), (7e8, true));
+        assert_eq!(one.clamp(7.1e8), (7e8, false));
+        assert_eq!(one.fraction(7e8), Fraction::default());
+    }
+
+    /// The simplex weights are a partition of unity, ≥ 0, interpolate affine data exactly, and are
+    /// continuous across the faces between simplices (where two fractions are equal); their derivatives
+    /// are those of the weights.
+    #[test]
+    fn simplex_weights_interpolate_affine_data_and_are_continuous() {
+        let mut rng = super::super::verify::SplitMix64::new(3);
+        let coef = [0.3, -1.2, 2.5, 0.7, -0.4];
+        let value = |s: &Simplex, f: &[Fraction; LINEAR_DIMS]| -> f64 {
+            // node coordinates = start + steps taken; affine data Σ coef·x at each corner
+            let mut x: [f64; LINEAR_DIMS] = std::array::from_fn(|d| f[d].start as f64);
+            let mut v = s.w[0] * coef.iter().zip(&x).map(|(c, x)| c * x).sum::<f64>();
+            for k in 0..LINEAR_DIMS {
+                if s.steps[k] {
+                    x[s.order[k]] += 1.0;
+                }
+                v += s.w[k + 1] * coef.iter().zip(&x).map(|(c, x)| c * x).sum::<f64>();
+            }
+            v
+        };
+        for _ in 0..1000 {
+            let mut f: [Fraction; LINEAR_DIMS] = std::array::from_fn(|d| Fraction {
+                start: d,
+                t: rng.uniform(),
+                inv_h: 1.0,
+            });
+            // one single-point axis
+            f[3] = Fraction::default();
+            let s = Simplex::of(&f);
+            assert!((s.w.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+            assert!(s.w.iter().all(|w| *w >= 0.0));
+            let want: f64 = (0..LINEAR_DIMS)
+                .map(|d| coef[d] * (f[d].start as f64 + f[d].t))
+                .sum();
+            assert!((value(&s, &f) - want).abs() < 1e-13);
+            // derivatives: Σ_c dw[d][c]·(corner data) = coef[d] for stepping dims
+            for d in [0, 1, 2, 4] {
+                let h = 1e-7;
+                let mut g = f;
+                g[d].t += h;
+                let fd = (value(&Simplex::of(&g), &g) - value(&s, &f)) / h;
+                assert!((fd - coef[d]).abs() < 1e-6, "{d}: {fd}");
+                let mut x: [f64; LINEAR_DIMS] = std::array::from_fn(|e| f[e].start as f64);
+                let mut dv = s.dw[d][0] * coef.iter().zip(&x).map(|(c, x)| c * x).sum::<f64>();
+                for k in 0..LINEAR_DIMS {
+                    if s.steps[k] {
+                        x[s.order[k]] += 1.0;
+                    }
+                    dv += s.dw[d][k + 1] * coef.iter().zip(&x).map(|(c, x)| c * x).sum::<f64>();
+                }
+                assert!((dv - coef[d]).abs() < 1e-12, "{d}: {dv}");
+            }
+        }
+        // continuity across a face: data that are not affine, t_0 = t_1 ± ε
+        let data = |x: &[f64; LINEAR_DIMS]| (x[0] * x[1]).sin() + x[2] * x[4];
+        let eval = |f: &[Fraction; LINEAR_DIMS]| {
+            let s = Simplex::of(f);
+            let mut x: [f64; LINEAR_DIMS] = std::array::from_fn(|d| f[d].start as f64);
+            let mut v = s.w[0] * data(&x);
+            for k in 0..LINEAR_DIMS {
+                if s.steps[k] {
+                    x[s.order[k]] += 1.0;
+                }
+                v += s.w[k + 1] * data(&x);
+            }
+            v
+        };
+        let base: [Fraction; LINEAR_DIMS] = std::array::from_fn(|d| Fraction {
+            start: 1,
+            t: [0.4, 0.4, 0.1, 0.0, 0.8][d],
+            inv_h: 1.0,
+        });
+        let (mut a, mut b) = (base, base);
+        a[0].t += 1e-12;
+        b[1].t += 1e-12;
+        assert!((eval(&a) - eval(&b)).abs() < 1e-11);
     }
 }

@@ -1,32 +1,36 @@
-//! Tabulation mode (issue 5): the exact model precomputed on a grid of operating points for one parameter
-//! set, stored as `.npy` arrays with a JSON sidecar, and interpolated at run time.
+//! Tabulation mode (issues 5 and 13): the exact model precomputed on a grid of operating points and contact
+//! geometries for one parameter set, stored as `.npy` arrays with a JSON sidecar, and interpolated at run
+//! time.
 //!
-//! - Axes (see [`axes`]): ξ, η, φ (cubic Hermite, non-uniform sinh spacing dense near 0), F_N, V (linear,
-//!   log spacing), w (linear). η ≥ 0 only, by the model's exact y-mirror symmetry; ξ ≥ 0 only by default, by
-//!   the ξ mirror, exact dry and within about 5e-4·F_N wet.
-//! - Stored outputs (see [`file::OUTPUT_INFO`]): F_x/F_N, F_y/F_N, M_z/(F_N·c) with c = sqrt(a·b) of Hertz,
-//!   T_max, fluid load fraction, and a converged flag per point. The traction coefficient is |F_T|/F_N of
-//!   the interpolated forces (the solver's definition, P2).
-//! - [`Table::evaluate`]: ≈ 0.4 µs (AVX2 + FMA kernel, [`Kernel`]), no allocation;
-//!   [`Table::evaluate_with_jacobian`] adds the exact derivatives of the interpolant for FMU directional
-//!   derivatives.
+//! - Axes (see [`axes`]): ξ̂, η̂, φ̂ (creepages normalised by Kalker's linear theory, cubic Hermite,
+//!   non-uniform sinh spacing dense near 0), F_N, V, w and the contact geometry a/b, p_ref (linear, on the
+//!   Kuhn simplices of their cells, see [`interp`]). η ≥ 0 only, by the model's exact y-mirror symmetry;
+//!   ξ ≥ 0 only by default, by the ξ mirror, exact dry and within about 5e-4·F_N wet.
+//! - Stored outputs (see [`file::OUTPUT_INFO`]): F_x/F_N, F_y/F_N, M_z/(F_N·c) with c = sqrt(a·b), T_max,
+//!   fluid load fraction, and a converged flag per point. The traction coefficient is |F_T|/F_N of the
+//!   interpolated forces (the solver's definition, P2).
+//! - [`Table::evaluate`] of an operating point and its contact ellipse ([`Ellipse`]): well under a
+//!   microsecond (AVX2 + FMA kernel, [`Kernel`]), no allocation; [`Table::evaluate_with_jacobian`] adds the
+//!   exact derivatives of the interpolant for FMU directional derivatives.
 //! - [`Table::load_shared`]: one copy per file and process, shared read-only by all FMU instances.
 
 pub mod axes;
 pub mod build;
+pub mod coords;
 pub mod file;
 pub mod interp;
 pub mod verify;
 
 pub use axes::{Axes, AxesSpec, Axis, AxisSpec, DIMENSIONS, DIMS, Interpolation, Spacing};
 pub use build::{build, merge};
-pub use file::{MomentScale, OUTPUT_INFO, OUTPUTS, ShardRecord, Sidecar, TableFiles, fingerprint};
+pub use coords::{Coordinates, Ellipse};
+pub use file::{OUTPUT_INFO, OUTPUTS, ShardRecord, Sidecar, TableFiles, fingerprint};
 
 use crate::error::{Error, Result};
 use crate::params::{OperatingPoint, Params};
 use crate::solver::{GlobalResults, Solution, SolverReport};
-use axes::{ETA, FORCE, PHI, XI};
-use interp::{AxisInterp, LinearStencil};
+use axes::{ETA, FORCE, LINEAR_DIMS, PHI, PRESSURE, RATIO, XI};
+use interp::{AxisInterp, CORNERS, Simplex};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock, Weak};
@@ -84,15 +88,20 @@ impl TableOutput {
     }
 }
 
+/// Number of inputs of an evaluation that the Jacobian differentiates by: ξ, η, φ, F_N, V, w (the contact
+/// ellipse held as it is, or growing with F_N as its load exponent says).
+pub const INPUTS: usize = 6;
+
 /// Derivatives of the interpolant: rows in the order of [`TableOutput`]'s values (F_x [N], F_y [N],
 /// M_z [N·m], traction coefficient, T_max [K], fluid load fraction), columns ∂/∂(ξ, η, φ, F_N, V, w) in the
-/// inputs' SI units. Zero along clamped (out-of-range) inputs and where an output is clamped.
-pub type Jacobian = [[f64; DIMS]; JACOBIAN_ROWS];
+/// inputs' SI units, with the contact's semi-axes ∝ F_N^e ([`Ellipse::load_exponent`]). Zero along clamped
+/// (out-of-range) inputs and where an output is clamped.
+pub type Jacobian = [[f64; INPUTS]; JACOBIAN_ROWS];
 
 /// Rows of a [`Jacobian`].
 pub const JACOBIAN_ROWS: usize = 6;
 
-/// Values per stored point in memory: the outputs and their slopes along φ.
+/// Values per stored point in memory (f32): the outputs and their slopes along φ.
 const ROW: usize = 2 * OUTPUTS;
 
 /// Positions in a row of output o's value and of its φ slope: values and slopes of outputs 0–1 and 2–3
@@ -155,11 +164,13 @@ pub struct Table {
     /// Row strides of the dimensions in `rows`.
     strides: [usize; DIMS],
     /// Per point, in C order over the axes: the outputs and their monotone slopes along φ (precomputed,
-    /// see `core`), at the positions `VAL` and `SLOPE`.
-    rows: Vec<[f64; ROW]>,
+    /// see `core`), at the positions `VAL` and `SLOPE`, in the stored precision.
+    rows: Vec<[f32; ROW]>,
     converged: Vec<u8>,
     all_converged: bool,
     bulk_temperature: f64,
+    /// The table's coordinates of operating points.
+    coordinates: Coordinates,
     path: Option<PathBuf>,
     kernel: Kernel,
 }
@@ -200,7 +211,7 @@ impl Table {
         for d in (0..DIMS - 1).rev() {
             strides[d] = strides[d + 1] * shape[d + 1];
         }
-        let mut rows: Vec<[f64; ROW]> = (0..n)
+        let mut rows: Vec<[f32; ROW]> = (0..n)
             .map(|i| {
                 let mut r = [0.0; ROW];
                 for (o, v) in VAL.iter().enumerate() {
@@ -209,18 +220,19 @@ impl Table {
                 r
             })
             .collect();
-        // Steffen slopes along φ of every fibre (fixed ξ, η, F_N, V, w) and output
+        // Steffen slopes along φ of every fibre (fixed ξ̂, η̂, F_N, V, w, a/b, p_ref) and output, computed
+        // in f64 from the stored values
         let phi = &axes.0[PHI].points;
         let (np, sp) = (phi.len(), strides[PHI]);
         let (mut y, mut d) = (vec![0.0; np], vec![0.0; np]);
         for first in (0..n).filter(|i| (i / sp) % np == 0) {
             for o in 0..OUTPUTS {
                 for (k, v) in y.iter_mut().enumerate() {
-                    *v = rows[first + k * sp][VAL[o]];
+                    *v = f64::from(rows[first + k * sp][VAL[o]]);
                 }
                 interp::node_slopes(phi, &y, &mut d);
                 for (k, v) in d.iter().enumerate() {
-                    rows[first + k * sp][SLOPE[o]] = *v;
+                    rows[first + k * sp][SLOPE[o]] = *v as f32;
                 }
             }
         }
@@ -228,6 +240,7 @@ impl Table {
             std::array::from_fn(|d| AxisInterp::new(&axes.0[d], DIMENSIONS[d].interpolation));
         Ok(Table {
             bulk_temperature: files.sidecar.params.material.bulk_temperature,
+            coordinates: Coordinates::new(&files.sidecar.params, axes.normalised()),
             all_converged: files.converged.iter().all(|c| *c == 1),
             converged: files.converged,
             sidecar: files.sidecar,
@@ -297,26 +310,79 @@ impl Table {
         self.sidecar.params == *params
     }
 
-    /// Whether the operating point lies inside every axis range.
-    pub fn in_range(&self, p: &OperatingPoint) -> bool {
-        coordinates(p)
-            .iter()
-            .zip(&self.axes.0)
-            .all(|(x, a)| *x >= a.min() && *x <= a.max())
+    /// How the table turns operating points and contacts into its coordinates.
+    pub fn coordinates(&self) -> &Coordinates {
+        &self.coordinates
     }
 
-    /// Evaluates one operating point by interpolation (no allocation). Invalid input (NaN, non-positive
-    /// load or speed, …) is an error; a valid point outside the ranges is clamped (`in_range` false).
-    pub fn evaluate(&self, point: &OperatingPoint) -> Result<TableOutput> {
-        self.dispatch::<false>(point).map(|(o, _)| o)
+    /// Whether the operating point with contact `e` lies inside every axis range and its creepages within
+    /// their raw limits. Invalid input (see [`Table::evaluate`]) is outside.
+    pub fn in_range(&self, p: &OperatingPoint, e: &Ellipse) -> bool {
+        p.validate().is_ok()
+            && self.coordinates.of(p, e).is_ok_and(|(q, _)| {
+                self.within_raw_limits(p)
+                    && self.creepages_inside(&q)
+                    && (FORCE..DIMS).all(|d| self.interp[d].clamp(q[d]).1)
+            })
+    }
+
+    /// Whether the contact `e` at normal force `force` [N] lies inside the table's geometry axes (a/b and
+    /// p_ref).
+    pub fn covers(&self, e: &Ellipse, force: f64) -> bool {
+        let q = [e.a / e.b, coords::reference_pressure(e.a, e.b, force)];
+        q.iter()
+            .zip(&self.interp[RATIO..])
+            .all(|(x, a)| a.clamp(*x).1)
+    }
+
+    /// Whether the raw creepages of `p` lie within the raw limits of normalised creepage axes.
+    fn within_raw_limits(&self, p: &OperatingPoint) -> bool {
+        [p.creepage_x, p.creepage_y, p.spin]
+            .iter()
+            .zip(&self.axes.0)
+            .all(|(x, a)| a.raw_limit.is_none_or(|l| x.abs() <= l))
+    }
+
+    /// The error of a contact `e` at `force` [N] outside the table's geometry axes.
+    pub fn outside_geometry(&self, e: &Ellipse, force: f64) -> Error {
+        let range = |d: usize| {
+            let a = &self.axes.0[d];
+            format!("{} {} to {}", DIMENSIONS[d].symbol, a.min(), a.max())
+        };
+        Error::TableGeometry {
+            path: self.location(),
+            ratio: e.a / e.b,
+            reference_pressure: coords::reference_pressure(e.a, e.b, force),
+            covered: format!("{}, {} Pa", range(RATIO), range(PRESSURE)),
+        }
+    }
+
+    /// Whether the creepage coordinates in `q` lie inside their axes, mirrored ones by their magnitude.
+    fn creepages_inside(&self, q: &[f64; DIMS]) -> bool {
+        (0..3).all(|d| {
+            let x = if self.axes.0[d].mirrored || d == ETA {
+                q[d].abs()
+            } else {
+                q[d]
+            };
+            self.interp[d].clamp(x).1
+        })
+    }
+
+    /// Evaluates one operating point with contact ellipse `e` (its semi-axes at the point's normal force) by
+    /// interpolation (no allocation). Invalid input (NaN, non-positive load, speed or semi-axes, …) is an
+    /// error; a valid point outside the ranges is clamped (`in_range` false).
+    pub fn evaluate(&self, point: &OperatingPoint, e: &Ellipse) -> Result<TableOutput> {
+        self.dispatch::<false>(point, e).map(|(o, _)| o)
     }
 
     /// [`Table::evaluate`] plus the Jacobian of the interpolant.
     pub fn evaluate_with_jacobian(
         &self,
         point: &OperatingPoint,
+        e: &Ellipse,
     ) -> Result<(TableOutput, Jacobian)> {
-        self.dispatch::<true>(point)
+        self.dispatch::<true>(point, e)
     }
 
     /// The kernel the evaluations run with.
@@ -338,15 +404,19 @@ impl Table {
     }
 
     /// [`Table::eval`] compiled for the table's kernel.
-    fn dispatch<const JAC: bool>(&self, point: &OperatingPoint) -> Result<(TableOutput, Jacobian)> {
+    fn dispatch<const JAC: bool>(
+        &self,
+        point: &OperatingPoint,
+        e: &Ellipse,
+    ) -> Result<(TableOutput, Jacobian)> {
         match self.kernel {
-            Kernel::Portable => self.eval::<JAC, false>(point),
+            Kernel::Portable => self.eval::<JAC, false>(point, e),
             // SAFETY: a table holds a vector kernel only if the CPU has its instructions
             // (`Kernel::supported`, checked by `detect` and `set_kernel`)
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx2Fma => unsafe { self.eval_avx2::<JAC>(point) },
+            Kernel::Avx2Fma => unsafe { self.eval_avx2::<JAC>(point, e) },
             #[cfg(not(target_arch = "x86_64"))]
-            _ => self.eval::<JAC, false>(point),
+            _ => self.eval::<JAC, false>(point, e),
         }
     }
 
@@ -355,17 +425,27 @@ impl Table {
     fn eval_avx2<const JAC: bool>(
         &self,
         point: &OperatingPoint,
+        e: &Ellipse,
     ) -> Result<(TableOutput, Jacobian)> {
-        self.eval::<JAC, true>(point)
+        self.eval::<JAC, true>(point, e)
     }
 
     #[inline(always)]
     fn eval<const JAC: bool, const FMA: bool>(
         &self,
         point: &OperatingPoint,
+        e: &Ellipse,
     ) -> Result<(TableOutput, Jacobian)> {
         point.validate()?;
-        let mut q = coordinates(point);
+        if !(e.a > 0.0 && e.b > 0.0 && e.a.is_finite() && e.b.is_finite()) {
+            return Err(Error::out_of_range(
+                "semi-axes",
+                e.a.min(e.b),
+                "finite and > 0 m",
+            ));
+        }
+        let (signed, k) = self.coordinates.of(point, e)?;
+        let mut q = signed;
         // bring the point into the stored quadrant ξ ≥ 0 (if mirrored), η ≥ 0
         let mx = q[XI] < 0.0 && self.axes.0[XI].mirrored;
         let my = q[ETA] < 0.0;
@@ -385,11 +465,10 @@ impl Table {
         let sx = if mx { -1.0 } else { 1.0 };
         let sy = if my { -1.0 } else { 1.0 };
         let out_sign = [sx, sy, sy, 1.0, 1.0];
-        let in_sign = [sx, sy, sy, 1.0, 1.0, 1.0];
+        let in_sign = [sx, sy, sy, 1.0, 1.0, 1.0, 1.0, 1.0];
         let g: [f64; OUTPUTS] = std::array::from_fn(|o| out_sign[o] * core.v[o]);
         let f = point.normal_force;
-        let scale = &self.sidecar.moment_scale;
-        let c = scale.radius(f);
+        let c = e.radius();
         let out = TableOutput {
             force_x: f * g[0],
             force_y: f * g[1],
@@ -397,24 +476,40 @@ impl Table {
             traction_coefficient: g[0].hypot(g[1]),
             max_temperature: core.v[3].max(self.bulk_temperature),
             fluid_load_fraction: core.v[4].clamp(0.0, 1.0),
-            in_range: inside.iter().all(|x| *x),
+            in_range: inside.iter().all(|x| *x) && self.within_raw_limits(point),
             converged: core.converged,
         };
-        let mut jac = [[0.0; DIMS]; JACOBIAN_ROWS];
+        let mut jac = [[0.0; INPUTS]; JACOBIAN_ROWS];
         if JAC {
-            // derivatives of the normalised outputs g in the caller's frame
-            let mut dg = [[0.0; DIMS]; OUTPUTS];
+            // derivatives of the normalised outputs g by the coordinates, in the caller's frame
+            let mut dq = [[0.0; DIMS]; OUTPUTS];
             for o in 0..OUTPUTS {
                 for d in 0..DIMS {
                     if inside[d] {
-                        dg[o][d] = out_sign[o] * core.d[o][d] * in_sign[d];
+                        dq[o][d] = out_sign[o] * core.d[o][d] * in_sign[d];
                     }
                 }
+            }
+            // chained to the inputs (ξ, η, φ, F_N, V, w): the creepage scales k, and F_N's part in them
+            // and in p_ref for semi-axes ∝ F_N^e
+            let s = self.coordinates.scale_exponents(e.load_exponent);
+            let pe = coords::reference_pressure_exponent(e.load_exponent);
+            let mut dg = [[0.0; INPUTS]; OUTPUTS];
+            for o in 0..OUTPUTS {
+                for d in 0..3 {
+                    dg[o][d] = dq[o][d] * k[d];
+                }
+                dg[o][FORCE] = dq[o][FORCE]
+                    + ((0..3).map(|d| dq[o][d] * signed[d] * s[d]).sum::<f64>()
+                        + dq[o][PRESSURE] * signed[PRESSURE] * pe)
+                        / f;
+                dg[o][FORCE + 1] = dq[o][FORCE + 1];
+                dg[o][FORCE + 2] = dq[o][FORCE + 2];
             }
             let f_t = out.traction_coefficient;
             let t_free = core.v[3] > self.bulk_temperature;
             let l_free = core.v[4] > 0.0 && core.v[4] < 1.0;
-            for d in 0..DIMS {
+            for d in 0..INPUTS {
                 jac[0][d] = f * dg[0][d];
                 jac[1][d] = f * dg[1][d];
                 jac[2][d] = f * c * dg[2][d];
@@ -424,61 +519,54 @@ impl Table {
                 jac[4][d] = if t_free { dg[3][d] } else { 0.0 };
                 jac[5][d] = if l_free { dg[4][d] } else { 0.0 };
             }
-            // the normalisation's own F_N dependence: F = F_N·g, M = F_N·c(F_N)·g, c ∝ F_N^e
+            // the normalisation's own F_N dependence: F = F_N·g, M = F_N·c·g, c ∝ F_N^e
             jac[0][FORCE] += g[0];
             jac[1][FORCE] += g[1];
-            jac[2][FORCE] += c * g[2] * (1.0 + scale.exponent);
+            jac[2][FORCE] += c * g[2] * (1.0 + e.load_exponent);
         }
         Ok((out, jac))
     }
 
     /// Tensor-product interpolation at stored-quadrant coordinates `q` (inside the ranges).
     ///
-    /// At each of the 4 × 4 (ξ, η) window points and the two ends of the φ interval, the 2×2×2 linear
-    /// corners over (F_N, V, w) are contracted, for the values and their precomputed Steffen slopes along
-    /// φ; the cubic Hermite along φ follows (linear in values and slopes), then the monotone splines along
-    /// η and ξ evaluated on the contracted values. With derivatives, each stage carries them forward (the
-    /// fibre weights are the partial derivatives, see `interp`). Ghost points of mirrored axes read the
-    /// mirror-image point (φ index reversed by the η mirror, which also reverses the φ slope) with the
-    /// symmetry's output signs.
+    /// At each of the 4 × 4 (ξ̂, η̂) window points and the two ends of the φ̂ interval, the six corners of
+    /// the Kuhn simplex over (F_N, V, w, a/b, p_ref) are contracted, for the values and their precomputed
+    /// Steffen slopes along φ̂; the cubic Hermite along φ̂ follows (linear in values and slopes), then the
+    /// monotone splines along η̂ and ξ̂ evaluated on the contracted values. With derivatives, each stage
+    /// carries them forward (the fibre weights are the partial derivatives, see `interp`). Ghost points of
+    /// mirrored axes read the mirror-image point (φ̂ index reversed by the η mirror, which also reverses the
+    /// φ̂ slope) with the symmetry's output signs.
     #[inline(always)]
     fn core<const JAC: bool, const FMA: bool>(&self, q: &[f64; DIMS]) -> Core {
+        const L: usize = LINEAR_DIMS;
         let cx = self.interp[XI].cubic(q[XI]);
         let cy = self.interp[ETA].cubic(q[ETA]);
         let (k0, hw, hdw) = self.interp[PHI].cubic(q[PHI]).hermite();
-        let lin: [LinearStencil; 3] =
-            std::array::from_fn(|k| self.interp[FORCE + k].linear(q[FORCE + k]));
-        let [s0, s1, s2, s3, s4, s5] = self.strides;
+        let simplex = Simplex::of(&std::array::from_fn(|k| {
+            self.interp[FORCE + k].fraction(q[FORCE + k])
+        }));
+        let st = &self.strides;
         let n_phi = self.axes.0[PHI].points.len() as isize;
-        // the eight linear corners: row offsets, weights and weight derivatives
-        let mut off = [0usize; 8];
-        let mut wl = [0.0; 8];
-        let mut dl = [[0.0; 8]; 3];
-        for c in 0..8 {
-            let (l, m, n) = (c >> 2, (c >> 1) & 1, c & 1);
-            off[c] = (lin[0].start + l) * s3 + (lin[1].start + m) * s4 + (lin[2].start + n) * s5;
-            let (a, b, e) = (lin[0].w[l], lin[1].w[m], lin[2].w[n]);
-            wl[c] = a * b * e;
-            if JAC {
-                dl[0][c] = lin[0].dw[l] * b * e;
-                dl[1][c] = a * lin[1].dw[m] * e;
-                dl[2][c] = a * b * lin[2].dw[n];
-            }
+        // the simplex corners' row offsets from the creepage node
+        let mut off = [0usize; CORNERS];
+        off[0] = (0..L).map(|k| simplex.start[k] * st[FORCE + k]).sum();
+        for k in 0..L {
+            let step = if simplex.steps[k] {
+                st[FORCE + simplex.order[k]]
+            } else {
+                0
+            };
+            off[k + 1] = off[k] + step;
         }
-        // the corners come in w-pairs of adjacent rows (w is the last dimension, s5 = 1)
-        debug_assert_eq!(s5, 1);
-        let pairs: [usize; 4] = std::array::from_fn(|p| off[2 * p]);
+        let (wl, dl) = (&simplex.w, &simplex.dw);
         let flat = self.rows.as_flattened();
         // stages 0 and 1: values [j][i·OUTPUTS + o] after φ (the layout of the η stage's lanes), with
-        // derivatives [i][j][o][F_N, V, w, φ]
+        // derivatives [i][j][o][F_N, V, w, a/b, p_ref, φ]
         let mut c1 = [[0.0; 4 * OUTPUTS]; 4];
-        let mut t1 = [[[[0.0; 4]; OUTPUTS]; 4]; 4];
+        let mut t1 = [[[[0.0; L + 1]; OUTPUTS]; 4]; 4];
         let mut converged = true;
-        // prefetch the corner pairs of ξ window node i + 1 (all η, both φ ends) while node i is computed: on a
-        // table far larger than the caches the loads then find their lines on the way (measured on the default
-        // table, random points: portable kernel 1.57 → 1.04 µs, AVX2 kernel 1.24 → 0.81 µs; a point whose
-        // stencil is already in L1 costs about 45 ns more, but between two steps of one contact an MBS
-        // simulation runs enough other code to evict L1)
+        // prefetch the corner rows of ξ window node i + 1 (all η, both φ ends) while node i is computed: on a
+        // table far larger than the caches the loads then find their lines on the way
         let prefetch = |i: isize| {
             #[cfg(target_arch = "x86_64")]
             {
@@ -491,16 +579,14 @@ impl Table {
                     for e in 0..2 {
                         let gk = k0 + e as isize;
                         let kk = if gj < 0 { n_phi - 1 - gk } else { gk } as usize;
-                        let base = ii * s0 + jj * s1 + kk * s2;
-                        for p in pairs {
-                            let ptr = p0.wrapping_add((base + p) * ROW * 8);
+                        let base = ii * st[XI] + jj * st[ETA] + kk * st[PHI];
+                        for o in off {
+                            let ptr = p0.wrapping_add((base + o) * ROW * 4);
                             // SAFETY: a prefetch is only a hint: it never faults and changes no memory
-                            // (the addresses are those of the pair's 2·ROW values in any case).
+                            // (the addresses are those of the corner's ROW values in any case).
                             unsafe {
                                 _mm_prefetch::<_MM_HINT_T0>(ptr);
-                                _mm_prefetch::<_MM_HINT_T0>(ptr.wrapping_add(64));
-                                _mm_prefetch::<_MM_HINT_T0>(ptr.wrapping_add(128));
-                                _mm_prefetch::<_MM_HINT_T0>(ptr.wrapping_add(2 * ROW * 8 - 1));
+                                _mm_prefetch::<_MM_HINT_T0>(ptr.wrapping_add(ROW * 4 - 1));
                             }
                         }
                     }
@@ -524,18 +610,18 @@ impl Table {
                 let sv = [sx, sy, sy, 1.0, 1.0];
                 let sd = [sx * sy, 1.0, 1.0, sy, sy];
                 let mut acc = [[0.0; ROW]; 2];
-                let mut acc_d = [[[0.0; 3]; ROW]; 2];
+                let mut acc_d = [[[0.0; L]; ROW]; 2];
                 for (e, (a, ad)) in acc.iter_mut().zip(acc_d.iter_mut()).enumerate() {
                     let gk = k0 + e as isize;
                     let kk = if fy { n_phi - 1 - gk } else { gk } as usize;
-                    let base = ii * s0 + jj * s1 + kk * s2;
-                    *a = corner_sum::<FMA>(flat, base, &pairs, &wl);
+                    let base = ii * st[XI] + jj * st[ETA] + kk * st[PHI];
+                    *a = corner_sum::<FMA>(flat, base, &off, wl);
                     if JAC {
                         for (c, o) in off.iter().enumerate() {
                             let row = &self.rows[base + o];
                             for o in 0..ROW {
                                 for (k, dlk) in dl.iter().enumerate() {
-                                    ad[o][k] += dlk[c] * row[o];
+                                    ad[o][k] += dlk[c] * f64::from(row[o]);
                                 }
                             }
                         }
@@ -558,30 +644,30 @@ impl Table {
                     for o in 0..OUTPUTS {
                         let (y0, d0) = (sv[o] * acc[0][VAL[o]], sd[o] * acc[0][SLOPE[o]]);
                         let (y1, d1) = (sv[o] * acc[1][VAL[o]], sd[o] * acc[1][SLOPE[o]]);
-                        for k in 0..3 {
+                        for k in 0..L {
                             t1[i][j][o][k] = sv[o]
                                 * (hw[0] * acc_d[0][VAL[o]][k] + hw[2] * acc_d[1][VAL[o]][k])
                                 + sd[o]
                                     * (hw[1] * acc_d[0][SLOPE[o]][k]
                                         + hw[3] * acc_d[1][SLOPE[o]][k]);
                         }
-                        t1[i][j][o][3] = hdw[0] * y0 + hdw[1] * d0 + hdw[2] * y1 + hdw[3] * d1;
+                        t1[i][j][o][L] = hdw[0] * y0 + hdw[1] * d0 + hdw[2] * y1 + hdw[3] * d1;
                     }
                 }
             }
         }
-        // stage 2: along η, all 4·OUTPUTS fibres at once; derivatives (F_N, V, w, φ, η)
+        // stage 2: along η, all 4·OUTPUTS fibres at once; derivatives (F_N, V, w, a/b, p_ref, φ, η)
         let mut c2 = [[0.0; OUTPUTS]; 4];
-        let mut t2 = [[[0.0; 5]; OUTPUTS]; 4];
+        let mut t2 = [[[0.0; L + 2]; OUTPUTS]; 4];
         if JAC {
             for i in 0..4 {
                 for o in 0..OUTPUTS {
                     let f = cy.eval(&std::array::from_fn(|j| c1[j][i * OUTPUTS + o]));
                     c2[i][o] = f.v;
-                    for a in 0..4 {
+                    for a in 0..=L {
                         t2[i][o][a] = (0..4).map(|j| f.w[j] * t1[i][j][o][a]).sum();
                     }
-                    t2[i][o][4] = f.dv;
+                    t2[i][o][L + 1] = f.dv;
                 }
             }
         } else {
@@ -597,9 +683,12 @@ impl Table {
             for o in 0..OUTPUTS {
                 let f = cx.eval(&std::array::from_fn(|i| c2[i][o]));
                 v[o] = f.v;
-                let t: [f64; 5] =
+                let t: [f64; L + 2] =
                     std::array::from_fn(|a| (0..4).map(|i| f.w[i] * t2[i][o][a]).sum());
-                d[o] = [f.dv, t[4], t[3], t[0], t[1], t[2]];
+                d[o][XI] = f.dv;
+                d[o][ETA] = t[L + 1];
+                d[o][PHI] = t[L];
+                d[o][FORCE..].copy_from_slice(&t[..L]);
             }
         } else {
             v = cx.value(&c2);
@@ -608,25 +697,21 @@ impl Table {
     }
 }
 
-/// Σ_c w_c·row(base + off_c) over the eight linear (F_N, V, w) corners, in the order c = 0..8 (w fastest),
-/// with the corners given as four w-pairs of adjacent rows starting at `base + pairs[p]` of the flattened
-/// rows: one bounds check per pair, fixed-size rows that stay in registers.
+/// Σ_c w_c·row(base + off_c) over the simplex corners (rows widened from the stored f32): fixed-size rows
+/// that stay in registers.
 #[inline(always)]
 fn corner_sum<const FMA: bool>(
-    flat: &[f64],
+    flat: &[f32],
     base: usize,
-    pairs: &[usize; 4],
-    wl: &[f64; 8],
+    off: &[usize; CORNERS],
+    wl: &[f64; CORNERS],
 ) -> [f64; ROW] {
     let mut a = [0.0; ROW];
-    for (p, w) in pairs.iter().zip(wl.chunks_exact(2)) {
-        let s = (base + p) * ROW;
-        let (r0, r1) = flat[s..s + 2 * ROW].split_at(ROW);
-        for o in 0..ROW {
-            a[o] = madd::<FMA>(w[0], r0[o], a[o]);
-        }
-        for o in 0..ROW {
-            a[o] = madd::<FMA>(w[1], r1[o], a[o]);
+    for (o, w) in off.iter().zip(wl) {
+        let s = (base + o) * ROW;
+        let r = &flat[s..s + ROW];
+        for k in 0..ROW {
+            a[k] = madd::<FMA>(*w, f64::from(r[k]), a[k]);
         }
     }
     a
@@ -639,18 +724,6 @@ fn madd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
     if FMA { a.mul_add(b, c) } else { a * b + c }
 }
 
-/// (ξ, η, φ, F_N, V, w) of an operating point.
-pub fn coordinates(p: &OperatingPoint) -> [f64; DIMS] {
-    [
-        p.creepage_x,
-        p.creepage_y,
-        p.spin,
-        p.normal_force,
-        p.speed,
-        p.wetness,
-    ]
-}
-
 /// A table in memory from node values `f(coordinates) -> outputs` (for tests and synthetic tables).
 #[cfg(test)]
 pub(crate) fn synthetic(
@@ -659,28 +732,30 @@ pub(crate) fn synthetic(
     f: &dyn Fn(&[f64; DIMS]) -> [f64; OUTPUTS],
 ) -> Table {
     let n = axes.len();
-    let mut outputs: Vec<Vec<f64>> = (0..OUTPUTS).map(|_| Vec::with_capacity(n)).collect();
+    let mut outputs: Vec<Vec<f32>> = (0..OUTPUTS).map(|_| Vec::with_capacity(n)).collect();
     for i in 0..n {
         for (o, v) in outputs.iter_mut().zip(f(&axes.coordinates(i))) {
-            o.push(v);
+            o.push(v as f32);
         }
     }
-    let mut files = build::build(params, &tiny_axes(), None, &|| ()).expect("tiny build");
-    files.axes = axes.clone();
-    files.sidecar.axes = file::axis_records(axes);
-    files.sidecar.moment_scale = MomentScale::of(params, axes.0[FORCE].points[0]).unwrap();
-    files.outputs = outputs;
-    files.converged = vec![1; n];
+    let files = TableFiles {
+        sidecar: build::sidecar(params, axes, None, Vec::new(), 0.0),
+        axes: axes.clone(),
+        outputs,
+        converged: vec![1; n],
+    };
     Table::from_files(files, None).unwrap()
 }
 
-/// Axes with explicit points per dimension (ξ, η, φ, F_N, V, w), ξ mirrored (stored ξ ≥ 0).
+/// Axes with explicit points per dimension (ξ̂, η̂, φ̂, F_N, V, w, a/b, p_ref), ξ̂ mirrored (stored ξ̂ ≥ 0),
+/// raw limits of the creepages `raw`.
 #[cfg(test)]
-fn explicit_axes(points: [&[f64]; DIMS]) -> Axes {
+fn explicit_axes(points: [&[f64]; DIMS], raw: [f64; 3]) -> Axes {
     let spec = |d: usize| {
         Some(AxisSpec {
             points: Some(points[d].to_vec()),
             mirrored: (d == XI).then_some(true),
+            raw_limit: raw.get(d).copied(),
             ..Default::default()
         })
     };
@@ -691,12 +766,15 @@ fn explicit_axes(points: [&[f64]; DIMS]) -> Axes {
         normal_force: spec(3),
         speed: spec(4),
         wetness: spec(5),
+        semi_axis_ratio: spec(6),
+        reference_pressure: spec(7),
     })
     .expect("valid axes")
 }
 
-/// The axes of the small test table `tests/fixtures/small-axes.toml` (288 points around the default
-/// operating point), which the FMU's and the command line's tests and benchmarks read from the file.
+/// The axes of the small test table `tests/fixtures/small-axes.toml` (1152 points around the default
+/// operating point and contact), which the FMU's and the command line's tests and benchmarks read from the
+/// file.
 #[cfg(test)]
 pub(crate) fn small_axes() -> Axes {
     let spec: AxesSpec = toml::from_str(include_str!("../../tests/fixtures/small-axes.toml"))
@@ -714,17 +792,23 @@ pub(crate) fn coarse_params() -> Params {
     p
 }
 
-/// The smallest valid axes (3·3·4·2·2·2 = 288 points), wider than [`small_axes`].
+/// Small valid axes (3·3·4·2·2·2·2·2 = 1152 points) around the default contact (a/b ≈ 0.56, p_ref ≈
+/// 0.77 GPa), wider than [`small_axes`]: |ξ| ≤ 5 %, |η| ≤ 2 %, |φ| ≤ 1 /m.
 #[cfg(test)]
 pub(crate) fn tiny_axes() -> Axes {
-    explicit_axes([
-        &[0.0, 0.005, 0.05],
-        &[0.0, 0.003, 0.02],
-        &[-1.0, -0.2, 0.2, 1.0],
-        &[50e3, 100e3],
-        &[10.0, 30.0],
-        &[0.0, 1.0],
-    ])
+    explicit_axes(
+        [
+            &[0.0, 1.0, 10.0],
+            &[0.0, 0.6, 4.0],
+            &[-0.5, -0.1, 0.1, 0.5],
+            &[50e3, 100e3],
+            &[10.0, 30.0],
+            &[0.0, 1.0],
+            &[0.5, 0.6],
+            &[0.7e9, 0.85e9],
+        ],
+        [0.05, 0.02, 1.0],
+    )
 }
 
 /// The error of evaluating `table` for `params` if it was built for other parameters (None if it was
