@@ -636,6 +636,7 @@ mod tests {
         let spec = AxesSpec {
             spin: Some(AxisSpec {
                 points: Some(vec![-1.0, 0.0, 0.5, 1.0]),
+                raw_limit: Some(1.0),
                 ..Default::default()
             }),
             ..Default::default()
@@ -645,6 +646,7 @@ mod tests {
         let spec = AxesSpec {
             creepage_y: Some(AxisSpec {
                 points: Some(vec![0.001, 0.01, 0.02]),
+                raw_limit: Some(0.02),
                 ..Default::default()
             }),
             ..Default::default()

@@ -793,7 +793,8 @@ pub(crate) fn coarse_params() -> Params {
 }
 
 /// Small valid axes (3·3·4·2·2·2·2·2 = 1152 points) around the default contact (a/b ≈ 0.56, p_ref ≈
-/// 0.77 GPa), wider than [`small_axes`]: |ξ| ≤ 5 %, |η| ≤ 2 %, |φ| ≤ 1 /m.
+/// 0.77 GPa), wider than [`small_axes`]: ξ̂ ≤ 10 (|ξ| up to about 5 %), η̂ ≤ 4 (|η| ≤ 2 %), |φ̂| ≤ 0.5
+/// (|φ| up to about 1.4 /m).
 #[cfg(test)]
 pub(crate) fn tiny_axes() -> Axes {
     explicit_axes(
@@ -807,7 +808,7 @@ pub(crate) fn tiny_axes() -> Axes {
             &[0.5, 0.6],
             &[0.7e9, 0.85e9],
         ],
-        [0.05, 0.02, 1.0],
+        [0.1, 0.03, 2.0],
     )
 }
 
@@ -831,44 +832,89 @@ mod tests {
     use super::*;
     use crate::params::FrictionLaw;
 
-    /// A function with the model's symmetries, linear in each coordinate: the interpolant reproduces it
-    /// exactly. Monomials x^a·y^b·φ^c: the ξ mirror multiplies them by (−1)^a, the (η, φ) mirror by
-    /// (−1)^(b+c). F_x: odd, even; F_y and M_z: even, odd; T: even, even.
+    /// A function with the model's symmetries, linear in each creepage coordinate and affine in the linear
+    /// ones: the interpolant reproduces it exactly. Monomials x^a·y^b·φ^c: the ξ mirror multiplies them by
+    /// (−1)^a, the (η, φ) mirror by (−1)^(b+c). F_x: odd, even; F_y and M_z: even, odd; T: even, even.
     fn symmetric_multilinear(c: &[f64; DIMS]) -> [f64; OUTPUTS] {
-        let [x, y, p, f, v, w] = *c;
-        let lin = (1.0 + 2e-6 * f) * (1.0 - 0.003 * v) * (1.0 + 0.5 * w);
+        let [x, y, p, f, v, w, r, pr] = *c;
+        let lin = 1.0 + 2e-6 * f - 0.003 * v + 0.5 * w + 0.2 * r - 1e-10 * pr;
         [
-            lin * (-3.0 * x + 40.0 * x * y * p),
-            lin * (-2.0 * y + 0.01 * p),
-            lin * (0.02 * p - 0.7 * y),
-            300.0 + 50.0 * lin * (1.0 + 4.0 * y * p),
-            0.3 * w * (1.0 - 0.002 * v),
+            lin * (-0.03 * x + 0.04 * x * y * p),
+            lin * (-0.02 * y + 0.01 * p),
+            lin * (0.02 * p - 0.007 * y),
+            300.0 + 50.0 * lin * (1.0 + 0.04 * y * p),
+            0.3 * w + 0.001 * v,
         ]
     }
 
     /// A smooth function with the symmetries and creep-curve-like saturation (not reproduced exactly).
     fn symmetric_saturating(c: &[f64; DIMS]) -> [f64; OUTPUTS] {
-        let [x, y, p, f, v, w] = *c;
-        let lin = (1.0 + 2e-6 * f) * (1.0 - 0.003 * v) * (1.0 + 0.5 * w);
-        let sat = |u: f64| (u / 0.004).tanh();
+        let [x, y, p, f, v, w, r, pr] = *c;
+        let lin = (1.0 + 2e-6 * f) * (1.0 - 0.003 * v) * (1.0 + 0.5 * w) * (1.0 + 0.1 * r)
+            / (1.0 + 1e-10 * pr);
+        let sat = |u: f64| (u / 0.5).tanh();
         [
             -lin * sat(x) * (1.0 + 0.3 * y * p),
-            -lin * (sat(y) + 0.002 * p),
-            lin * (0.02 * p - sat(y) * (1.0 + x * x)),
-            300.0 + 50.0 * lin * (x * x + y * p),
+            -lin * (sat(y) + 0.02 * p),
+            lin * (0.02 * p - sat(y) * (1.0 + 0.01 * x * x)),
+            300.0 + 50.0 * lin * (0.01 * x * x + y * p),
             0.3 * w * (1.0 - 0.002 * v),
         ]
     }
 
+    /// Random table coordinates inside [`tiny_axes`] whose raw creepages lie within its raw limits.
     fn random_coordinates(rng: &mut verify::SplitMix64) -> [f64; DIMS] {
         let mut u = || rng.uniform();
         [
-            -0.05 + 0.1 * u(),
-            -0.02 + 0.04 * u(),
-            -1.0 + 2.0 * u(),
+            -8.0 + 16.0 * u(),
+            -3.0 + 6.0 * u(),
+            -0.4 + 0.8 * u(),
             50e3 + 50e3 * u(),
             10.0 + 20.0 * u(),
             u(),
+            0.5 + 0.1 * u(),
+            0.7e9 + 0.15e9 * u(),
+        ]
+    }
+
+    /// The operating point and contact of table coordinates `q`, the contact's semi-axes growing with the
+    /// load like F_N^e.
+    fn at(t: &Table, q: &[f64; DIMS], e: f64) -> (OperatingPoint, Ellipse) {
+        let (p, mut el) = t.coordinates().point(q).unwrap();
+        el.load_exponent = e;
+        (p, el)
+    }
+
+    /// The point and contact with input d (ξ, η, φ, F_N, V, w) moved by h (the semi-axes follow F_N).
+    fn moved(p: &OperatingPoint, e: &Ellipse, d: usize, h: f64) -> (OperatingPoint, Ellipse) {
+        let mut p = *p;
+        let mut e = *e;
+        match d {
+            0 => p.creepage_x += h,
+            1 => p.creepage_y += h,
+            2 => p.spin += h,
+            3 => {
+                let s = ((p.normal_force + h) / p.normal_force).powf(e.load_exponent);
+                p.normal_force += h;
+                e.a *= s;
+                e.b *= s;
+            }
+            4 => p.speed += h,
+            _ => p.wetness += h,
+        }
+        (p, e)
+    }
+
+    /// The six outputs of normalised values `v` at point `p` with contact `e`.
+    fn physical(p: &OperatingPoint, e: &Ellipse, v: &[f64; OUTPUTS]) -> [f64; JACOBIAN_ROWS] {
+        let f = p.normal_force;
+        [
+            f * v[0],
+            f * v[1],
+            f * e.radius() * v[2],
+            v[0].hypot(v[1]),
+            v[3],
+            v[4],
         ]
     }
 
@@ -876,46 +922,38 @@ mod tests {
     fn interpolant_reproduces_symmetric_multilinear_functions_and_their_derivatives() {
         let params = coarse_params();
         let t = synthetic(&tiny_axes(), &params, &symmetric_multilinear);
-        let scale = t.sidecar.moment_scale;
         let mut rng = verify::SplitMix64::new(7);
-        for _ in 0..500 {
+        for n in 0..500 {
             let c = random_coordinates(&mut rng);
-            let pt = build::operating_point(&c);
-            let (o, j) = t.evaluate_with_jacobian(&pt).unwrap();
+            let exponent = if n % 2 == 0 { 0.0 } else { Ellipse::HERTZ };
+            let (pt, e) = at(&t, &c, exponent);
+            let (o, j) = t.evaluate_with_jacobian(&pt, &e).unwrap();
             let want = symmetric_multilinear(&c);
-            let f = c[3];
-            let r = scale.radius(f);
-            assert!(o.in_range && o.converged);
-            assert!((o.force_x / f - want[0]).abs() < 1e-12, "{c:?}");
-            assert!((o.force_y / f - want[1]).abs() < 1e-12, "{c:?}");
-            assert!((o.spin_moment / (f * r) - want[2]).abs() < 1e-12, "{c:?}");
-            assert!((o.max_temperature - want[3]).abs() < 1e-9, "{c:?}");
-            assert!((o.fluid_load_fraction - want[4]).abs() < 1e-12);
-            assert!((o.traction_coefficient - want[0].hypot(want[1])).abs() < 1e-12);
-            // Jacobian against central differences of the exact function
-            for d in 0..DIMS {
-                let h = [1e-7, 1e-7, 1e-5, 1.0, 1e-4, 1e-6][d];
-                let (mut cp, mut cm) = (c, c);
-                cp[d] += h;
-                cm[d] -= h;
-                let (fp, fm) = (symmetric_multilinear(&cp), symmetric_multilinear(&cm));
-                let phys = |c: &[f64; DIMS], v: &[f64; OUTPUTS]| {
-                    [
-                        c[3] * v[0],
-                        c[3] * v[1],
-                        c[3] * scale.radius(c[3]) * v[2],
-                        v[0].hypot(v[1]),
-                        v[3],
-                        v[4],
-                    ]
+            let f = c[FORCE];
+            assert!(o.in_range && o.converged, "{c:?}");
+            assert!((o.force_x / f - want[0]).abs() < 1e-6, "{c:?}");
+            assert!((o.force_y / f - want[1]).abs() < 1e-6, "{c:?}");
+            assert!((o.spin_moment / (f * e.radius()) - want[2]).abs() < 1e-6, "{c:?}");
+            assert!((o.max_temperature - want[3]).abs() < 1e-4, "{c:?}");
+            assert!((o.fluid_load_fraction - want[4]).abs() < 1e-6);
+            // Jacobian against central differences of the exact function through the coordinates
+            for d in 0..INPUTS {
+                let h = [1e-8, 1e-8, 1e-6, 1.0, 1e-4, 1e-6][d];
+                let exact = |h: f64| {
+                    let (p, e) = moved(&pt, &e, d, h);
+                    let (q, _) = t.coordinates().of(&p, &e).unwrap();
+                    physical(&p, &e, &symmetric_multilinear(&q))
                 };
-                let (pp, pm) = (phys(&cp, &fp), phys(&cm, &fm));
+                let (pp, pm) = (exact(h), exact(-h));
                 for o in 0..JACOBIAN_ROWS {
                     let fd = (pp[o] - pm[o]) / (2.0 * h);
-                    let tol = 1e-6 * (fd.abs() + [f, f, f * r, 1.0, 300.0, 1.0][o] * 1e-3);
+                    let scale = [f, f, f * e.radius(), 1.0, 300.0, 1.0][o]
+                        / [0.05, 0.02, 1.0, 1e5, 20.0, 1.0][d];
+                    // the node values are stored in f32: their rounding (relative 6e-8) over node
+                    // spacings
                     assert!(
-                        (j[o][d] - fd).abs() < tol.max(1e-9),
-                        "∂{o}/∂{d} at {c:?}: {} vs {fd}",
+                        (j[o][d] - fd).abs() < 1e-4 * (fd.abs() + 1e-2 * scale),
+                        "∂{o}/∂{d} at {c:?} (e {exponent}): {} vs {fd}",
                         j[o][d]
                     );
                 }
@@ -930,15 +968,15 @@ mod tests {
         assert_eq!(t.kernel(), Kernel::detect());
         assert!(t.set_kernel(Kernel::Portable).is_ok());
         let mut rng = verify::SplitMix64::new(5);
-        let points: Vec<OperatingPoint> = (0..500)
-            .map(|_| build::operating_point(&random_coordinates(&mut rng)))
+        let points: Vec<(OperatingPoint, Ellipse)> = (0..500)
+            .map(|_| at(&t, &random_coordinates(&mut rng), Ellipse::HERTZ))
             .collect();
         let reference: Vec<(TableOutput, Jacobian)> = points
             .iter()
-            .map(|p| {
+            .map(|(p, e)| {
                 (
-                    t.evaluate(p).unwrap(),
-                    t.evaluate_with_jacobian(p).unwrap().1,
+                    t.evaluate(p, e).unwrap(),
+                    t.evaluate_with_jacobian(p, e).unwrap().1,
                 )
             })
             .collect();
@@ -950,9 +988,9 @@ mod tests {
                 continue;
             }
             compared += 1;
-            for (p, (o, j)) in points.iter().zip(&reference) {
-                let ok = t.evaluate(p).unwrap();
-                let jk = t.evaluate_with_jacobian(p).unwrap().1;
+            for ((p, e), (o, j)) in points.iter().zip(&reference) {
+                let ok = t.evaluate(p, e).unwrap();
+                let jk = t.evaluate_with_jacobian(p, e).unwrap().1;
                 for (x, y) in [
                     (ok.force_x, o.force_x),
                     (ok.force_y, o.force_y),
@@ -981,23 +1019,21 @@ mod tests {
     fn jacobian_is_the_derivative_of_the_interpolant() {
         let params = coarse_params();
         let mut axes = tiny_axes();
-        axes.0[XI].points = vec![0.0, 0.001, 0.003, 0.01, 0.03, 0.05];
+        axes.0[XI].points = vec![0.0, 0.2, 0.6, 2.0, 6.0, 10.0];
         let t = synthetic(&axes, &params, &symmetric_saturating);
         let mut rng = verify::SplitMix64::new(11);
-        for _ in 0..300 {
+        for n in 0..300 {
             let c = random_coordinates(&mut rng);
-            let (_, j) = t
-                .evaluate_with_jacobian(&build::operating_point(&c))
-                .unwrap();
-            for d in 0..DIMS {
-                let h = [1e-8, 1e-8, 1e-6, 0.1, 1e-5, 1e-7][d];
-                let (mut cp, mut cm) = (c, c);
-                cp[d] += h;
-                cm[d] -= h;
-                let (p, m) = (
-                    t.evaluate(&build::operating_point(&cp)).unwrap(),
-                    t.evaluate(&build::operating_point(&cm)).unwrap(),
-                );
+            let exponent = if n % 2 == 0 { 0.0 } else { Ellipse::HERTZ };
+            let (pt, e) = at(&t, &c, exponent);
+            let (_, j) = t.evaluate_with_jacobian(&pt, &e).unwrap();
+            for d in 0..INPUTS {
+                let h = [1e-9, 1e-9, 1e-7, 0.1, 1e-5, 1e-7][d];
+                let value = |h: f64| {
+                    let (p, e) = moved(&pt, &e, d, h);
+                    t.evaluate(&p, &e).unwrap()
+                };
+                let (p, m) = (value(h), value(-h));
                 let fd = [
                     (p.force_x - m.force_x) / (2.0 * h),
                     (p.force_y - m.force_y) / (2.0 * h),
@@ -1020,18 +1056,19 @@ mod tests {
         }
     }
 
-    /// The in-memory row layout (values and φ slopes interleaved, corners read as w-pairs) against a direct
+    /// The in-memory row layout (values and φ slopes interleaved, f32, simplex corners) against a direct
     /// evaluation of the node values in C order: Steffen slopes along φ per corner fibre (mirror images for
-    /// ghost η nodes), Hermite along φ, linear corners, then the η and ξ fibres with their weights.
+    /// ghost η nodes), Hermite along φ, the simplex corners, then the η and ξ fibres with their weights.
     #[test]
     fn row_layout_matches_a_direct_evaluation_of_the_node_values() {
         let params = coarse_params();
         let mut axes = tiny_axes();
-        axes.0[XI].points = vec![0.0, 0.001, 0.003, 0.01, 0.03, 0.05];
+        axes.0[XI].points = vec![0.0, 0.2, 0.6, 2.0, 6.0, 10.0];
         let t = synthetic(&axes, &params, &symmetric_saturating);
         let shape = axes.shape();
+        // the stored (f32) node values
         let vals: Vec<[f64; OUTPUTS]> = (0..axes.len())
-            .map(|k| symmetric_saturating(&axes.coordinates(k)))
+            .map(|k| symmetric_saturating(&axes.coordinates(k)).map(|v| f64::from(v as f32)))
             .collect();
         let idx = |m: [usize; DIMS]| m.iter().zip(&shape).fold(0, |a, (i, s)| a * s + i);
         let phi = &axes.0[PHI].points;
@@ -1045,8 +1082,21 @@ mod tests {
             let cy = t.interp[ETA].cubic(q[ETA]);
             let (k0, hw, _) = t.interp[PHI].cubic(q[PHI]).hermite();
             let k0 = k0 as usize;
-            let lin: [LinearStencil; 3] =
-                std::array::from_fn(|k| t.interp[FORCE + k].linear(q[FORCE + k]));
+            let sx = Simplex::of(&std::array::from_fn(|k| {
+                t.interp[FORCE + k].fraction(q[FORCE + k])
+            }));
+            // the corners' node indices along the linear dimensions
+            let corners: Vec<[usize; LINEAR_DIMS]> = (0..CORNERS)
+                .map(|c| {
+                    let mut n = sx.start;
+                    for k in 0..c {
+                        if sx.steps[k] {
+                            n[sx.order[k]] += 1;
+                        }
+                    }
+                    n
+                })
+                .collect();
             let want: [f64; OUTPUTS] = std::array::from_fn(|o| {
                 let along_eta: [f64; 4] = std::array::from_fn(|i| {
                     let gi = cx.start + i as isize;
@@ -1057,26 +1107,22 @@ mod tests {
                         } else {
                             1.0
                         };
-                        (0..8)
-                            .map(|c| {
-                                let corner = [c >> 2, (c >> 1) & 1, c & 1];
+                        corners
+                            .iter()
+                            .zip(sx.w)
+                            .map(|(corner, w)| {
                                 let fibre: Vec<f64> = (0..np)
                                     .map(|k| {
                                         let kk = if gj < 0 { np - 1 - k } else { k };
-                                        let m = [
-                                            gi.unsigned_abs(),
-                                            gj.unsigned_abs(),
-                                            kk,
-                                            lin[0].start + corner[0],
-                                            lin[1].start + corner[1],
-                                            lin[2].start + corner[2],
-                                        ];
+                                        let mut m = [gi.unsigned_abs(), gj.unsigned_abs(), kk, 0, 0, 0, 0, 0];
+                                        m[FORCE..].copy_from_slice(corner);
                                         sign * vals[idx(m)][o]
                                     })
                                     .collect();
                                 let mut d = vec![0.0; np];
                                 interp::node_slopes(phi, &fibre, &mut d);
-                                let w: f64 = (0..3).map(|a| lin[a].w[corner[a]]).product();
+                                // slopes are stored in f32 too
+                                let d: Vec<f64> = d.iter().map(|x| f64::from(*x as f32)).collect();
                                 w * (hw[0] * fibre[k0]
                                     + hw[1] * d[k0]
                                     + hw[2] * fibre[k0 + 1]
@@ -1092,7 +1138,7 @@ mod tests {
             for o in 0..OUTPUTS {
                 let scale = [1.0, 1.0, 0.1, 300.0, 0.3][o];
                 assert!(
-                    (got[o] - want[o]).abs() < 1e-13 * scale,
+                    (got[o] - want[o]).abs() < 1e-12 * scale,
                     "output {o} at {q:?}: {} vs {}",
                     got[o],
                     want[o]
@@ -1114,21 +1160,17 @@ mod tests {
                 0.1,
             ]
         });
-        let pt = OperatingPoint {
-            creepage_x: 0.01,
-            creepage_y: 0.004,
-            spin: 0.3,
-            normal_force: 70e3,
-            speed: 20.0,
-            wetness: 0.5,
-        };
-        let a = t.evaluate(&pt).unwrap();
+        let (pt, e) = at(&t, &[2.0, 0.8, 0.3, 70e3, 20.0, 0.5, 0.55, 0.8e9], 0.0);
+        let a = t.evaluate(&pt, &e).unwrap();
         let b = t
-            .evaluate(&OperatingPoint {
-                creepage_y: -0.004,
-                spin: -0.3,
-                ..pt
-            })
+            .evaluate(
+                &OperatingPoint {
+                    creepage_y: -pt.creepage_y,
+                    spin: -pt.spin,
+                    ..pt
+                },
+                &e,
+            )
             .unwrap();
         assert_eq!(
             (b.force_x, b.force_y, b.spin_moment),
@@ -1136,10 +1178,13 @@ mod tests {
         );
         assert_eq!(b.max_temperature, a.max_temperature);
         let c = t
-            .evaluate(&OperatingPoint {
-                creepage_x: -0.01,
-                ..pt
-            })
+            .evaluate(
+                &OperatingPoint {
+                    creepage_x: -pt.creepage_x,
+                    ..pt
+                },
+                &e,
+            )
             .unwrap();
         assert_eq!(
             (c.force_x, c.force_y, c.spin_moment),
@@ -1150,70 +1195,64 @@ mod tests {
     #[test]
     fn out_of_range_is_clamped_and_flagged_bad_input_is_an_error() {
         let t = synthetic(&tiny_axes(), &coarse_params(), &symmetric_multilinear);
-        let pt = OperatingPoint {
-            creepage_x: 0.02,
-            creepage_y: 0.001,
-            spin: 0.1,
-            normal_force: 100e3,
-            speed: 30.0,
-            wetness: 1.0,
-        };
-        let inside = t.evaluate(&pt).unwrap();
-        assert!(inside.in_range && t.in_range(&pt));
+        let (pt, e) = at(&t, &[4.0, 0.2, 0.1, 100e3, 30.0, 1.0, 0.55, 0.8e9], 0.0);
+        let inside = t.evaluate(&pt, &e).unwrap();
+        assert!(inside.in_range && t.in_range(&pt, &e) && t.covers(&e, pt.normal_force));
         let fast = OperatingPoint { speed: 60.0, ..pt };
-        let (o, j) = t.evaluate_with_jacobian(&fast).unwrap();
-        assert!(!o.in_range && !t.in_range(&fast));
+        let (o, j) = t.evaluate_with_jacobian(&fast, &e).unwrap();
+        assert!(!o.in_range && !t.in_range(&fast, &e));
         // V = 30 is the top of the speed axis: clamped to it
         assert!((o.force_x - inside.force_x).abs() < 1e-12 * inside.force_x.abs());
         assert_eq!(j[0][4], 0.0);
-        // above the load range the normalised values are held, the force scales with F_N
-        let heavy = OperatingPoint {
-            normal_force: 200e3,
-            ..pt
-        };
-        let h = t.evaluate(&heavy).unwrap();
+        // above the load range the normalised values are held, the force scales with F_N (the contact
+        // held: its p_ref and the creepage scales change, so compare at the same coordinates)
+        let (heavy, eh) = at(&t, &[4.0, 0.2, 0.1, 200e3, 30.0, 1.0, 0.55, 0.8e9], 0.0);
+        let h = t.evaluate(&heavy, &eh).unwrap();
+        assert!(!h.in_range);
         assert!((h.force_x / 200e3 - inside.force_x / 100e3).abs() < 1e-15);
-        assert!(
-            t.evaluate(&OperatingPoint {
+        // a raw creepage beyond its raw limit is out of range even where its coordinate is on the axis
+        let mut narrow = tiny_axes();
+        narrow.0[XI].raw_limit = Some(0.5 * pt.creepage_x);
+        let steep = synthetic(&narrow, &coarse_params(), &symmetric_multilinear);
+        assert!(!steep.in_range(&pt, &e) && !steep.evaluate(&pt, &e).unwrap().in_range);
+        // another contact: outside the geometry axes
+        let flat = Ellipse { a: e.b, b: e.a, ..e };
+        assert!(!t.covers(&flat, pt.normal_force) && !t.in_range(&pt, &flat));
+        let err = t.outside_geometry(&flat, pt.normal_force).to_string();
+        assert!(err.contains("a/b 0.5 to 0.6") && err.contains("p_ref"), "{err}");
+        for bad in [
+            OperatingPoint {
                 creepage_x: f64::NAN,
                 ..pt
-            })
-            .is_err()
-        );
-        assert!(
-            t.evaluate(&OperatingPoint {
+            },
+            OperatingPoint {
                 normal_force: -1.0,
                 ..pt
-            })
-            .is_err()
-        );
+            },
+        ] {
+            assert!(t.evaluate(&bad, &e).is_err() && !t.in_range(&bad, &e));
+        }
+        assert!(t.evaluate(&pt, &Ellipse { a: 0.0, ..e }).is_err());
     }
 
     #[test]
     fn unconverged_nodes_taint_only_nearby_evaluations() {
         let mut axes = tiny_axes();
-        axes.0[XI].points = vec![0.0, 0.001, 0.003, 0.01, 0.03, 0.05];
+        axes.0[XI].points = vec![0.0, 0.2, 0.6, 2.0, 6.0, 10.0];
         let params = coarse_params();
         let mut t = synthetic(&axes, &params, &symmetric_multilinear);
-        // flag the node at the largest ξ, η, φ, F_N, V, w
+        // flag the node at the largest coordinates
         let last = axes.len() - 1;
         t.converged[last] = 0;
         t.all_converged = false;
-        let near = OperatingPoint {
-            creepage_x: 0.04,
-            creepage_y: 0.015,
-            spin: 0.9,
-            normal_force: 90e3,
-            speed: 25.0,
-            wetness: 0.9,
-        };
-        assert!(!t.evaluate(&near).unwrap().converged);
-        // the cubic stencil at ξ = 0.002 spans the points −0.001 (ghost) … 0.003
-        let far = OperatingPoint {
-            creepage_x: 0.002,
-            ..near
-        };
-        assert!(t.evaluate(&far).unwrap().converged);
+        let near = [8.0, 3.5, 0.38, 90e3, 25.0, 0.9, 0.58, 0.83e9];
+        let (p, e) = at(&t, &near, 0.0);
+        assert!(!t.evaluate(&p, &e).unwrap().converged);
+        // the cubic stencil at ξ̂ = 0.4 spans the points −0.2 (ghost) … 2
+        let mut far = near;
+        far[XI] = 0.4;
+        let (p, e) = at(&t, &far, 0.0);
+        assert!(t.evaluate(&p, &e).unwrap().converged);
     }
 
     /// A table stores quantities only the Tomberger law models: other laws are refused before any solve,
@@ -1269,5 +1308,34 @@ mod tests {
         let c = Table::load_shared(&dir).unwrap();
         assert_eq!(c.axes(), &tiny_axes());
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A built table agrees with the exact solver at its nodes (they are the solutions, in f32) and between
+    /// them within the interpolation error, for contacts across its geometry axes; the nodes a cube did not
+    /// solve (beyond its coverage window) hold the nearest solved node's values.
+    #[test]
+    fn built_nodes_are_the_exact_solutions_of_their_contacts() {
+        let params = coarse_params();
+        let axes = tiny_axes();
+        let files = build::build(&params, &axes, None, &|| ()).unwrap();
+        let t = Table::from_files(files.clone(), None).unwrap();
+        let mut rng = verify::SplitMix64::new(17);
+        for _ in 0..20 {
+            let k = rng.below(axes.len());
+            let q = axes.coordinates(k);
+            let (p, e) = t.coordinates().point(&q).unwrap();
+            let mut exact = params.clone();
+            exact.geometry.semi_axes = Some([e.a, e.b]);
+            let s = crate::solve(&exact, &p).unwrap();
+            let f = p.normal_force;
+            let stored = f64::from(files.outputs[0][k]);
+            assert!(
+                (stored - s.global.force_x / f).abs() < 1e-3,
+                "node {q:?}: {stored} vs {}",
+                s.global.force_x / f
+            );
+            let o = t.evaluate(&p, &e).unwrap();
+            assert!((o.force_x / f - stored).abs() < 1e-6);
+        }
     }
 }
