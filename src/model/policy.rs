@@ -303,7 +303,10 @@ impl Evaluator {
         self.table.as_deref().is_some_and(|t| {
             self.table_params
                 && self
-                    .contact(&self.model.params().geometry, crate::table::axes::REFERENCE_FORCE)
+                    .contact(
+                        &self.model.params().geometry,
+                        crate::table::axes::REFERENCE_FORCE,
+                    )
                     .is_ok_and(|(e, _)| t.covers(&e, crate::table::axes::REFERENCE_FORCE))
         })
     }

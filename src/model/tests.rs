@@ -138,7 +138,10 @@ fn auto_uses_the_table_where_usable_and_else_the_exact_solver_with_the_reason() 
         b: h.b,
         load_exponent: crate::table::Ellipse::HERTZ,
     };
-    assert_eq!(r.outputs().unwrap(), table().evaluate(&inside(), &e).unwrap());
+    assert_eq!(
+        r.outputs().unwrap(),
+        table().evaluate(&inside(), &e).unwrap()
+    );
     // outside the speed range
     let fast = OperatingPoint {
         speed: 60.0,

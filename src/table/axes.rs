@@ -705,7 +705,10 @@ mod tests {
             raw_limit: Some(1.0),
             ..Default::default()
         });
-        assert!(Axes::from_spec(&spec).is_err(), "a cubic axis needs 4 points");
+        assert!(
+            Axes::from_spec(&spec).is_err(),
+            "a cubic axis needs 4 points"
+        );
     }
 
     #[test]

@@ -108,7 +108,10 @@ const SOLVER_RAW_LIMITS: [f64; 3] = [1.9, 1.9, 1e4];
 /// normalised coordinate `x` (see the module documentation).
 fn window(points: &[f64], x: f64) -> (usize, usize) {
     let n = points.len();
-    let hi = points.iter().position(|p| *p >= x).map_or(n - 1, |m| (m + 1).min(n - 1));
+    let hi = points
+        .iter()
+        .position(|p| *p >= x)
+        .map_or(n - 1, |m| (m + 1).min(n - 1));
     let lo = points
         .iter()
         .rposition(|p| *p <= -x)
@@ -143,16 +146,12 @@ impl Cube {
             rest /= shape[d];
         }
         let coordinate = |d: usize, i: usize| axes.0[d].points[i];
-        let node: [f64; DIMS] = std::array::from_fn(|d| {
-            if d < FORCE {
-                0.0
-            } else {
-                coordinate(d, at[d])
-            }
-        });
+        let node: [f64; DIMS] =
+            std::array::from_fn(|d| if d < FORCE { 0.0 } else { coordinate(d, at[d]) });
         let contact = |f: usize, r: usize, p: usize| -> Result<(Ellipse, [f64; 3])> {
             let force = coordinate(FORCE, f);
-            let [a, b] = super::coords::semi_axes(coordinate(RATIO, r), coordinate(PRESSURE, p), force);
+            let [a, b] =
+                super::coords::semi_axes(coordinate(RATIO, r), coordinate(PRESSURE, p), force);
             let e = Ellipse {
                 a,
                 b,
@@ -227,9 +226,14 @@ impl Cube {
         axes: &Axes,
         on_point: &(dyn Fn() + Sync),
     ) -> Vec<(std::result::Result<PointResult, String>, bool)> {
-        let [nx, ny, np] = [axes.0[XI].points.len(), axes.0[ETA].points.len(), axes.0[PHI].points.len()];
+        let [nx, ny, np] = [
+            axes.0[XI].points.len(),
+            axes.0[ETA].points.len(),
+            axes.0[PHI].points.len(),
+        ];
         let flat = |i: usize, j: usize, l: usize| (i * ny + j) * np + l;
-        let mut out: Vec<Option<std::result::Result<PointResult, String>>> = vec![None; nx * ny * np];
+        let mut out: Vec<Option<std::result::Result<PointResult, String>>> =
+            vec![None; nx * ny * np];
         let [wx, wy, wp] = self.windows;
         let radius = Ellipse {
             a: self.params.geometry.semi_axes.map_or(0.0, |s| s[0]),
@@ -253,7 +257,12 @@ impl Cube {
                                 residual: sol.report.residual,
                             })
                         })
-                        .map_err(|e| format!("{point:?} at semi-axes {:?}: {e}", self.params.geometry.semi_axes)),
+                        .map_err(|e| {
+                            format!(
+                                "{point:?} at semi-axes {:?}: {e}",
+                                self.params.geometry.semi_axes
+                            )
+                        }),
                     );
                 }
             }
@@ -372,8 +381,30 @@ pub fn build(
     })
 }
 
+/// A table of values given by a function of the table coordinates (ξ̂, η̂, φ̂, F_N, V, w, a/b, p_ref) instead
+/// of the exact solver, every point marked converged: synthetic tables for tests and benchmarks.
+pub fn tabulate(
+    params: &Params,
+    axes: &Axes,
+    f: &dyn Fn(&[f64; DIMS]) -> [f64; OUTPUTS],
+) -> TableFiles {
+    let n = axes.len();
+    let mut outputs: Vec<Vec<f32>> = (0..OUTPUTS).map(|_| Vec::with_capacity(n)).collect();
+    for i in 0..n {
+        for (o, v) in outputs.iter_mut().zip(f(&axes.coordinates(i))) {
+            o.push(v as f32);
+        }
+    }
+    TableFiles {
+        sidecar: sidecar(params, axes, None, Vec::new(), 0.0),
+        axes: axes.clone(),
+        outputs,
+        converged: vec![1; n],
+    }
+}
+
 /// The sidecar of a build (outputs and converged records are filled in when written).
-pub(crate) fn sidecar(
+fn sidecar(
     params: &Params,
     axes: &Axes,
     shard: Option<ShardRecord>,

@@ -159,7 +159,10 @@ mod tests {
         assert!((p_ref / h.p0 - 1.0).abs() < 1e-14);
         for f in [10e3, 47e3, 250e3] {
             let h = normal_contact(&p, f).unwrap();
-            assert!((reference_pressure(h.a, h.b, f) / p_ref - 1.0).abs() < 1e-12, "{f}");
+            assert!(
+                (reference_pressure(h.a, h.b, f) / p_ref - 1.0).abs() < 1e-12,
+                "{f}"
+            );
             // and the ellipse of (a/b, p_ref) at that load is Hertz's
             let [a, b] = semi_axes(h.a / h.b, p_ref, f);
             assert!((a / h.a - 1.0).abs() < 1e-12 && (b / h.b - 1.0).abs() < 1e-12);

@@ -3,8 +3,8 @@
 //! time.
 //!
 //! - Axes (see [`axes`]): ξ̂, η̂, φ̂ (creepages normalised by Kalker's linear theory, cubic Hermite,
-//!   non-uniform sinh spacing dense near 0), F_N, V, w and the contact geometry a/b, p_ref (linear, on the
-//!   Kuhn simplices of their cells, see [`interp`]). η ≥ 0 only, by the model's exact y-mirror symmetry;
+//!   non-uniform sinh spacing dense near 0), F_N, V, w and the contact geometry a/b, p_ref (linear: V, w
+//!   multilinear, F_N, a/b, p_ref on simplices, see [`interp`]). η ≥ 0 only, by the exact y-mirror symmetry;
 //!   ξ ≥ 0 only by default, by the ξ mirror, exact dry and within about 5e-4·F_N wet.
 //! - Stored outputs (see [`file::OUTPUT_INFO`]): F_x/F_N, F_y/F_N, M_z/(F_N·c) with c = sqrt(a·b), T_max,
 //!   fluid load fraction, and a converged flag per point. The traction coefficient is |F_T|/F_N of the
@@ -22,7 +22,7 @@ pub mod interp;
 pub mod verify;
 
 pub use axes::{Axes, AxesSpec, Axis, AxisSpec, DIMENSIONS, DIMS, Interpolation, Spacing};
-pub use build::{build, merge};
+pub use build::{build, merge, tabulate};
 pub use coords::{Coordinates, Ellipse};
 pub use file::{OUTPUT_INFO, OUTPUTS, ShardRecord, Sidecar, TableFiles, fingerprint};
 
@@ -30,7 +30,7 @@ use crate::error::{Error, Result};
 use crate::params::{OperatingPoint, Params};
 use crate::solver::{GlobalResults, Solution, SolverReport};
 use axes::{ETA, FORCE, LINEAR_DIMS, PHI, PRESSURE, RATIO, XI};
-use interp::{AxisInterp, CORNERS, Simplex};
+use interp::{AxisInterp, CORNERS, Corners};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock, Weak};
@@ -529,8 +529,8 @@ impl Table {
 
     /// Tensor-product interpolation at stored-quadrant coordinates `q` (inside the ranges).
     ///
-    /// At each of the 4 × 4 (ξ̂, η̂) window points and the two ends of the φ̂ interval, the six corners of
-    /// the Kuhn simplex over (F_N, V, w, a/b, p_ref) are contracted, for the values and their precomputed
+    /// At each of the 4 × 4 (ξ̂, η̂) window points and the two ends of the φ̂ interval, the 16 corners of
+    /// the linear stencil over (F_N, V, w, a/b, p_ref) (see `interp`) are contracted, for the values and their precomputed
     /// Steffen slopes along φ̂; the cubic Hermite along φ̂ follows (linear in values and slopes), then the
     /// monotone splines along η̂ and ξ̂ evaluated on the contracted values. With derivatives, each stage
     /// carries them forward (the fibre weights are the partial derivatives, see `interp`). Ghost points of
@@ -542,23 +542,18 @@ impl Table {
         let cx = self.interp[XI].cubic(q[XI]);
         let cy = self.interp[ETA].cubic(q[ETA]);
         let (k0, hw, hdw) = self.interp[PHI].cubic(q[PHI]).hermite();
-        let simplex = Simplex::of(&std::array::from_fn(|k| {
+        let corners = Corners::of(&std::array::from_fn(|k| {
             self.interp[FORCE + k].fraction(q[FORCE + k])
         }));
         let st = &self.strides;
         let n_phi = self.axes.0[PHI].points.len() as isize;
-        // the simplex corners' row offsets from the creepage node
-        let mut off = [0usize; CORNERS];
-        off[0] = (0..L).map(|k| simplex.start[k] * st[FORCE + k]).sum();
-        for k in 0..L {
-            let step = if simplex.steps[k] {
-                st[FORCE + simplex.order[k]]
-            } else {
-                0
-            };
-            off[k + 1] = off[k] + step;
-        }
-        let (wl, dl) = (&simplex.w, &simplex.dw);
+        // the linear corners' row offsets from the creepage node
+        let off: [usize; CORNERS] = std::array::from_fn(|c| {
+            (0..L)
+                .map(|k| (corners.start[k] + corners.step[c][k]) * st[FORCE + k])
+                .sum()
+        });
+        let (wl, dl) = (&corners.w, &corners.dw);
         let flat = self.rows.as_flattened();
         // stages 0 and 1: values [j][i·OUTPUTS + o] after φ (the layout of the η stage's lanes), with
         // derivatives [i][j][o][F_N, V, w, a/b, p_ref, φ]
@@ -697,7 +692,7 @@ impl Table {
     }
 }
 
-/// Σ_c w_c·row(base + off_c) over the simplex corners (rows widened from the stored f32): fixed-size rows
+/// Σ_c w_c·row(base + off_c) over the linear corners (rows widened from the stored f32): fixed-size rows
 /// that stay in registers.
 #[inline(always)]
 fn corner_sum<const FMA: bool>(
@@ -724,27 +719,14 @@ fn madd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
     if FMA { a.mul_add(b, c) } else { a * b + c }
 }
 
-/// A table in memory from node values `f(coordinates) -> outputs` (for tests and synthetic tables).
+/// A table in memory from node values `f(coordinates) -> outputs` (for tests).
 #[cfg(test)]
 pub(crate) fn synthetic(
     axes: &Axes,
     params: &Params,
     f: &dyn Fn(&[f64; DIMS]) -> [f64; OUTPUTS],
 ) -> Table {
-    let n = axes.len();
-    let mut outputs: Vec<Vec<f32>> = (0..OUTPUTS).map(|_| Vec::with_capacity(n)).collect();
-    for i in 0..n {
-        for (o, v) in outputs.iter_mut().zip(f(&axes.coordinates(i))) {
-            o.push(v as f32);
-        }
-    }
-    let files = TableFiles {
-        sidecar: build::sidecar(params, axes, None, Vec::new(), 0.0),
-        axes: axes.clone(),
-        outputs,
-        converged: vec![1; n],
-    };
-    Table::from_files(files, None).unwrap()
+    Table::from_files(tabulate(params, axes, f), None).unwrap()
 }
 
 /// Axes with explicit points per dimension (ξ̂, η̂, φ̂, F_N, V, w, a/b, p_ref), ξ̂ mirrored (stored ξ̂ ≥ 0),
@@ -933,7 +915,10 @@ mod tests {
             assert!(o.in_range && o.converged, "{c:?}");
             assert!((o.force_x / f - want[0]).abs() < 1e-6, "{c:?}");
             assert!((o.force_y / f - want[1]).abs() < 1e-6, "{c:?}");
-            assert!((o.spin_moment / (f * e.radius()) - want[2]).abs() < 1e-6, "{c:?}");
+            assert!(
+                (o.spin_moment / (f * e.radius()) - want[2]).abs() < 1e-6,
+                "{c:?}"
+            );
             assert!((o.max_temperature - want[3]).abs() < 1e-4, "{c:?}");
             assert!((o.fluid_load_fraction - want[4]).abs() < 1e-6);
             // Jacobian against central differences of the exact function through the coordinates
@@ -1056,9 +1041,9 @@ mod tests {
         }
     }
 
-    /// The in-memory row layout (values and φ slopes interleaved, f32, simplex corners) against a direct
+    /// The in-memory row layout (values and φ slopes interleaved, f32, linear corners) against a direct
     /// evaluation of the node values in C order: Steffen slopes along φ per corner fibre (mirror images for
-    /// ghost η nodes), Hermite along φ, the simplex corners, then the η and ξ fibres with their weights.
+    /// ghost η nodes), Hermite along φ, the linear corners, then the η and ξ fibres with their weights.
     #[test]
     fn row_layout_matches_a_direct_evaluation_of_the_node_values() {
         let params = coarse_params();
@@ -1082,20 +1067,12 @@ mod tests {
             let cy = t.interp[ETA].cubic(q[ETA]);
             let (k0, hw, _) = t.interp[PHI].cubic(q[PHI]).hermite();
             let k0 = k0 as usize;
-            let sx = Simplex::of(&std::array::from_fn(|k| {
+            let sx = Corners::of(&std::array::from_fn(|k| {
                 t.interp[FORCE + k].fraction(q[FORCE + k])
             }));
             // the corners' node indices along the linear dimensions
             let corners: Vec<[usize; LINEAR_DIMS]> = (0..CORNERS)
-                .map(|c| {
-                    let mut n = sx.start;
-                    for k in 0..c {
-                        if sx.steps[k] {
-                            n[sx.order[k]] += 1;
-                        }
-                    }
-                    n
-                })
+                .map(|c| std::array::from_fn(|k| sx.start[k] + sx.step[c][k]))
                 .collect();
             let want: [f64; OUTPUTS] = std::array::from_fn(|o| {
                 let along_eta: [f64; 4] = std::array::from_fn(|i| {
@@ -1114,7 +1091,16 @@ mod tests {
                                 let fibre: Vec<f64> = (0..np)
                                     .map(|k| {
                                         let kk = if gj < 0 { np - 1 - k } else { k };
-                                        let mut m = [gi.unsigned_abs(), gj.unsigned_abs(), kk, 0, 0, 0, 0, 0];
+                                        let mut m = [
+                                            gi.unsigned_abs(),
+                                            gj.unsigned_abs(),
+                                            kk,
+                                            0,
+                                            0,
+                                            0,
+                                            0,
+                                            0,
+                                        ];
                                         m[FORCE..].copy_from_slice(corner);
                                         sign * vals[idx(m)][o]
                                     })
@@ -1216,10 +1202,17 @@ mod tests {
         let steep = synthetic(&narrow, &coarse_params(), &symmetric_multilinear);
         assert!(!steep.in_range(&pt, &e) && !steep.evaluate(&pt, &e).unwrap().in_range);
         // another contact: outside the geometry axes
-        let flat = Ellipse { a: e.b, b: e.a, ..e };
+        let flat = Ellipse {
+            a: e.b,
+            b: e.a,
+            ..e
+        };
         assert!(!t.covers(&flat, pt.normal_force) && !t.in_range(&pt, &flat));
         let err = t.outside_geometry(&flat, pt.normal_force).to_string();
-        assert!(err.contains("a/b 0.5 to 0.6") && err.contains("p_ref"), "{err}");
+        assert!(
+            err.contains("a/b 0.5 to 0.6") && err.contains("p_ref"),
+            "{err}"
+        );
         for bad in [
             OperatingPoint {
                 creepage_x: f64::NAN,

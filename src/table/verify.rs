@@ -287,7 +287,10 @@ mod tests {
                 && pts.iter().any(|s| s.point.creepage_y < 0.0)
         );
         // the creepages reach close to their raw limits
-        let top = pts.iter().map(|s| s.point.creepage_x.abs()).fold(0.0, f64::max);
+        let top = pts
+            .iter()
+            .map(|s| s.point.creepage_x.abs())
+            .fold(0.0, f64::max);
         assert!(top > 0.5 * t.axes().0[0].raw_limit.unwrap(), "{top}");
         assert_eq!(pts, sample_points(&t, 400, 3));
         assert_ne!(pts, sample_points(&t, 400, 4));

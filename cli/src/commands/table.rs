@@ -240,13 +240,14 @@ fn slurm(a: &SlurmArgs) -> Result<()> {
         Some(p) => Axes::from_toml_file(p)?,
         None => Axes::default(),
     };
-    let lines = table::file::line_stride(&axes);
-    if a.shards == 0 || a.shards > lines {
+    let cubes = table::file::cube_count(&axes);
+    if a.shards == 0 || a.shards > cubes {
         bail!(wheelrail::Error::out_of_range(
             "shards",
             a.shards as f64,
             &format!(
-                "1 ..= {lines} (the number of xi lines of the axes; a shard holds whole lines)"
+                "1 ..= {cubes} (the number of creepage cubes of the axes, one per node of normal force, \
+                 speed, wetness and contact geometry; a shard holds whole cubes)"
             ),
         ));
     }

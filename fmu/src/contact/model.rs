@@ -660,15 +660,24 @@ mod tests {
         assert_eq!(m.calculate(&mut v, &log).unwrap(), Status::Ok);
         assert_eq!(v.integer(EVALUATION_MODE), 1);
         let t = wheelrail::table::Table::load_shared(&table_dir()).unwrap();
+        let h = wheelrail::solver::normal_contact(t.params(), 100e3).unwrap();
+        let ellipse = wheelrail::table::Ellipse {
+            a: h.a,
+            b: h.b,
+            load_exponent: wheelrail::table::Ellipse::HERTZ,
+        };
         let want = t
-            .evaluate(&OperatingPoint {
-                creepage_x: 0.003,
-                creepage_y: -0.001,
-                spin: 0.2,
-                normal_force: 100e3,
-                speed: 30.0,
-                wetness: 0.1,
-            })
+            .evaluate(
+                &OperatingPoint {
+                    creepage_x: 0.003,
+                    creepage_y: -0.001,
+                    spin: 0.2,
+                    normal_force: 100e3,
+                    speed: 30.0,
+                    wetness: 0.1,
+                },
+                &ellipse,
+            )
             .unwrap();
         assert_eq!(v.real(FORCE_LONGITUDINAL), want.force_x);
         assert_eq!(v.real(SPIN_MOMENT), want.spin_moment);
