@@ -49,12 +49,15 @@ pub struct Fraction {
 }
 
 /// The corners of the linear stencil at one point: node `start + step[c]` along each linear dimension,
-/// weights and their derivatives.
+/// weights and their derivatives, for the first `n` corners (single-point axes add none: a table of one
+/// geometry has 2² × 2 = 8).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Corners {
+    /// Number of corners.
+    pub n: usize,
     /// Node index along each linear dimension of the cell's lowest node.
     pub start: [usize; LINEAR_DIMS],
-    /// Per corner: 0 or 1 node beyond `start` along each linear dimension (always 0 on single-point axes).
+    /// Per corner: 0 or 1 node beyond `start` along each linear dimension.
     pub step: [[usize; LINEAR_DIMS]; CORNERS],
     /// Corner weights (≥ 0, sum 1).
     pub w: [f64; CORNERS],
@@ -68,9 +71,16 @@ impl Corners {
     #[inline(always)]
     pub fn of(f: &[Fraction; LINEAR_DIMS]) -> Corners {
         const S: usize = SIMPLICIAL.len() + 1;
-        // the simplex: its dimensions by descending fraction
-        let mut order = SIMPLICIAL;
-        for i in 1..order.len() {
+        // the simplex over the axes with more than one point, by descending fraction
+        let mut order = [0usize; SIMPLICIAL.len()];
+        let mut k_s = 0;
+        for &d in &SIMPLICIAL {
+            if f[d].inv_h > 0.0 {
+                order[k_s] = d;
+                k_s += 1;
+            }
+        }
+        for i in 1..k_s {
             let mut j = i;
             while j > 0 && f[order[j - 1]].t < f[order[j]].t {
                 order.swap(j - 1, j);
@@ -80,46 +90,57 @@ impl Corners {
         let mut ws = [0.0; S];
         let mut dws = [[0.0; S]; LINEAR_DIMS];
         let mut steps_s = [[0usize; LINEAR_DIMS]; S];
-        ws[0] = 1.0 - f[order[0]].t;
-        for (k, &d) in order.iter().enumerate() {
-            let next = order.get(k + 1).map_or(0.0, |&n| f[n].t);
+        ws[0] = if k_s > 0 { 1.0 - f[order[0]].t } else { 1.0 };
+        for k in 0..k_s {
+            let d = order[k];
+            let next = if k + 1 < k_s { f[order[k + 1]].t } else { 0.0 };
             ws[k + 1] = f[d].t - next;
             dws[d][k] = -f[d].inv_h;
             dws[d][k + 1] = f[d].inv_h;
             steps_s[k + 1] = steps_s[k];
-            steps_s[k + 1][d] = usize::from(f[d].inv_h > 0.0);
+            steps_s[k + 1][d] = 1;
+        }
+        // the multilinear axes with more than one point
+        let mut multi = [0usize; MULTILINEAR.len()];
+        let mut k_m = 0;
+        for &d in &MULTILINEAR {
+            if f[d].inv_h > 0.0 {
+                multi[k_m] = d;
+                k_m += 1;
+            }
         }
         let mut c = Corners {
+            n: (1 << k_m) * (k_s + 1),
             start: std::array::from_fn(|d| f[d].start),
             step: [[0; LINEAR_DIMS]; CORNERS],
             w: [0.0; CORNERS],
             dw: [[0.0; CORNERS]; LINEAR_DIMS],
         };
-        // the multilinear corners (bit b of m: one node further along MULTILINEAR[b]) times the simplex's
-        for m in 0..(1 << MULTILINEAR.len()) {
+        // the multilinear corners (bit b of m: one node further along multi[b]) times the simplex's
+        for m in 0..(1 << k_m) {
             let mut wm = 1.0;
-            let mut dwm = [1.0; 2];
+            let mut dwm = [1.0; MULTILINEAR.len()];
             let mut step = [0usize; LINEAR_DIMS];
-            for (b, &d) in MULTILINEAR.iter().enumerate() {
+            for (b, &d) in multi[..k_m].iter().enumerate() {
                 let up = (m >> b) & 1 == 1;
                 let (w, dw) = if up {
                     (f[d].t, f[d].inv_h)
                 } else {
                     (1.0 - f[d].t, -f[d].inv_h)
                 };
-                step[d] = usize::from(up && f[d].inv_h > 0.0);
+                step[d] = usize::from(up);
                 wm *= w;
-                for (e, x) in dwm.iter_mut().enumerate() {
+                for (e, x) in dwm[..k_m].iter_mut().enumerate() {
                     *x *= if e == b { dw } else { w };
                 }
             }
-            for k in 0..S {
-                let i = m * S + k;
+            for k in 0..=k_s {
+                let i = m * (k_s + 1) + k;
                 c.w[i] = wm * ws[k];
-                for (b, &d) in MULTILINEAR.iter().enumerate() {
+                for (b, &d) in multi[..k_m].iter().enumerate() {
                     c.dw[d][i] = dwm[b] * ws[k];
                 }
-                for &d in &SIMPLICIAL {
+                for &d in &order[..k_s] {
                     c.dw[d][i] = wm * dws[d][k];
                 }
                 for d in 0..LINEAR_DIMS {
@@ -679,7 +700,7 @@ mod tests {
             0.3 * x[0] - 1.2 * x[1] + 2.5 * x[2] + 0.7 * x[3] - 0.4 * x[4] + 0.9 * x[1] * x[2]
         };
         let eval = |c: &Corners, dw: Option<usize>| -> f64 {
-            (0..CORNERS)
+            (0..c.n)
                 .map(|k| {
                     let x: [f64; LINEAR_DIMS] =
                         std::array::from_fn(|d| (c.start[d] + c.step[k][d]) as f64);
@@ -696,6 +717,7 @@ mod tests {
             // one single-point axis (a geometry axis of a one-geometry table)
             f[3] = Fraction::default();
             let c = Corners::of(&f);
+            assert_eq!(c.n, 12, "2² multilinear × 3 simplex corners (a/b is a single point)");
             assert!((c.w.iter().sum::<f64>() - 1.0).abs() < 1e-15);
             assert!(c.w.iter().all(|w| *w >= 0.0));
             let x: [f64; LINEAR_DIMS] = std::array::from_fn(|d| f[d].start as f64 + f[d].t);
@@ -716,7 +738,7 @@ mod tests {
         let curved = |x: &[f64; LINEAR_DIMS]| (x[0] * x[3]).sin() + x[2] * x[4];
         let value = |f: &[Fraction; LINEAR_DIMS]| -> f64 {
             let c = Corners::of(f);
-            (0..CORNERS)
+            (0..c.n)
                 .map(|k| {
                     let x: [f64; LINEAR_DIMS] =
                         std::array::from_fn(|d| (c.start[d] + c.step[k][d]) as f64);

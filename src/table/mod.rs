@@ -548,12 +548,13 @@ impl Table {
         let st = &self.strides;
         let n_phi = self.axes.0[PHI].points.len() as isize;
         // the linear corners' row offsets from the creepage node
+        let n = corners.n;
         let off: [usize; CORNERS] = std::array::from_fn(|c| {
             (0..L)
                 .map(|k| (corners.start[k] + corners.step[c][k]) * st[FORCE + k])
                 .sum()
         });
-        let (wl, dl) = (&corners.w, &corners.dw);
+        let (off, wl, dl) = (&off[..n], &corners.w[..n], &corners.dw);
         let flat = self.rows.as_flattened();
         // stages 0 and 1: values [j][i·OUTPUTS + o] after φ (the layout of the η stage's lanes), with
         // derivatives [i][j][o][F_N, V, w, a/b, p_ref, φ]
@@ -576,7 +577,7 @@ impl Table {
                         let kk = if gj < 0 { n_phi - 1 - gk } else { gk } as usize;
                         let base = ii * st[XI] + jj * st[ETA] + kk * st[PHI];
                         for o in off {
-                            let ptr = p0.wrapping_add((base + o) * ROW * 4);
+                            let ptr = p0.wrapping_add((base + *o) * ROW * 4);
                             // SAFETY: a prefetch is only a hint: it never faults and changes no memory
                             // (the addresses are those of the corner's ROW values in any case).
                             unsafe {
@@ -695,12 +696,7 @@ impl Table {
 /// Σ_c w_c·row(base + off_c) over the linear corners (rows widened from the stored f32): fixed-size rows
 /// that stay in registers.
 #[inline(always)]
-fn corner_sum<const FMA: bool>(
-    flat: &[f32],
-    base: usize,
-    off: &[usize; CORNERS],
-    wl: &[f64; CORNERS],
-) -> [f64; ROW] {
+fn corner_sum<const FMA: bool>(flat: &[f32], base: usize, off: &[usize], wl: &[f64]) -> [f64; ROW] {
     let mut a = [0.0; ROW];
     for (o, w) in off.iter().zip(wl) {
         let s = (base + o) * ROW;
@@ -1071,7 +1067,7 @@ mod tests {
                 t.interp[FORCE + k].fraction(q[FORCE + k])
             }));
             // the corners' node indices along the linear dimensions
-            let corners: Vec<[usize; LINEAR_DIMS]> = (0..CORNERS)
+            let corners: Vec<[usize; LINEAR_DIMS]> = (0..sx.n)
                 .map(|c| std::array::from_fn(|k| sx.start[k] + sx.step[c][k]))
                 .collect();
             let want: [f64; OUTPUTS] = std::array::from_fn(|o| {

@@ -48,7 +48,7 @@ struct BuildArgs {
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "table")]
     out: PathBuf,
-    /// Build only part K of N (1 ≤ K ≤ N: the whole ξ lines l with l mod N = K − 1), e.g. one task of a
+    /// Build only part K of N (1 ≤ K ≤ N: the whole creepage cubes t with t mod N = K − 1), e.g. one task of a
     /// cluster array job; join the parts with `wheelrail table merge`.
     #[arg(long, value_name = "K/N")]
     shard: Option<String>,
@@ -56,7 +56,7 @@ struct BuildArgs {
 
 #[derive(Debug, Args)]
 struct SlurmArgs {
-    /// Number of shards N (array tasks 1..N; at most the number of ξ lines).
+    /// Number of shards N (array tasks 1..N; at most the number of creepage cubes).
     #[arg(long, value_name = "N")]
     shards: usize,
     /// Job directory on a file system the compute nodes share: the scripts, logs/, shards/K and the merged
