@@ -8,7 +8,8 @@ k = 0 … 10 000 (10 001 rows); the row at t_k holds the inputs of the step [t_k
 and the FMU inputs it drives, by their FMU names (SI units): `creepage_longitudinal` ξ, `creepage_lateral` η,
 `spin_creepage` φ [1/m], `normal_force` F_N [N], `rolling_speed` V [m/s], `wetness` w, and the contact
 geometry as the gap curvatures `curvature_longitudinal` A and `curvature_lateral` B [1/m] (Hertz in the FMU,
-docs/model.md §2; `semi_axis_a`, `semi_axis_b` stay 0).
+docs/model.md §2), with the prescribed semi-axes `semi_axis_a`, `semi_axis_b` 0 (not prescribed): every
+input of the FMU.
 
 Track (curve progress c: 0 straight, 1 full curve; raised-cosine transitions):
   0.0–1.5 s straight, 1.5–3.5 s entry transition, 3.5–6.0 s full curve, 6.0–8.0 s exit transition,
@@ -59,7 +60,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 STEP = 1e-3  # [s]
 ROWS = 10001  # t = 0 … 10 s
 COLUMNS = ["time", "creepage_longitudinal", "creepage_lateral", "spin_creepage", "normal_force", "rolling_speed",
-           "wetness", "curvature_longitudinal", "curvature_lateral"]
+           "wetness", "curvature_longitudinal", "curvature_lateral", "semi_axis_a", "semi_axis_b"]
 
 # the tread: the FMU's default gap curvatures (a rolling radius r = 1/(2A)) and a 1/40 cone
 A_TREAD, B_TREAD = 1.015, 0.4215  # [1/m]
@@ -114,6 +115,8 @@ def row(k):
         w,
         A_TREAD + (A_FLANGE - A_TREAD) * g,
         B_TREAD * (B_FLANGE / B_TREAD) ** g,
+        0.0,
+        0.0,
     ]
 
 
