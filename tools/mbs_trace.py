@@ -34,15 +34,16 @@ Loads and motions:
   - V = 25 m/s − 0.5 m/s²·t (service braking, 25 → 20 m/s).
   - w: a wet patch from 7.25 s to 8.75 s (raised-cosine rise and fall over 0.3 s each, w = 1 from 7.55 to
     8.45 s), on the end of the exit transition and the straight after it.
-  - ξ = b·(0.003·(1 + 3w) + 0.0003·sin(2π·9 Hz·t)), b rising from 0 to 1 between 0.3 and 1.0 s (brake
-    application; ξ > 0 brakes: the force on the wheel opposes the slip): the braking creepage 0.3 % grows to
-    1.2 % on the wet patch (less adhesion at the same brake torque), with a 9 Hz drivetrain oscillation.
+  - ξ = b·(0.0006 + 0.0144·w + 0.0001·sin(2π·9 Hz·t)), b rising from 0 to 1 between 0.3 and 1.0 s (brake
+    application; ξ > 0 brakes: the force on the wheel opposes the slip): a braking creepage of 0.06 % (an
+    adhesion demand of about 0.1) with a 9 Hz drivetrain oscillation; on the wet patch the demand exceeds
+    the wet adhesion and the wheel creeps up to 1.5 % (wheel-slide protection holds it there).
   - η = −0.006·c + 0.0008·sin(2π·1.2 Hz·t): in the curve the angle of attack of the leading outer wheel
     (6 mrad), everywhere the wheelset's hunting (1.2 Hz: a kinematic wavelength of about 20 m).
 
 Ranges over the trace (the inputs printed by this script; the contact from the FMU, checked by
 tests/fmpy/test_mbs_trace.py):
-  ξ 0 … 0.0123, η −0.0068 … 0.0008, φ 0.0507 … 0.872 /m (all inside the bundled table's ranges
+  ξ 0 … 0.0151, η −0.0068 … 0.0008, φ 0.0507 … 0.872 /m (all inside the bundled table's ranges
   |ξ| ≤ 0.1, |η| ≤ 0.02, |φ| ≤ 1 /m), F_N 76.0 … 138.9 kN, V 20 … 25 m/s, w 0 … 1,
   A 0.894 … 1.015 /m, B 0.4215 … 7.0 /m. The contact (Hertz, the FMU's outputs `contact_semi_axis_a`,
   `contact_semi_axis_b`, `peak_pressure`): a/b 0.558 (tread) … 3.85 (flange root), √(ab) 5.0 … 8.0 mm, b down
@@ -107,7 +108,7 @@ def row(k):
     brake = ramp((t - 0.3) / 0.7)
     return [
         t,
-        brake * (0.003 * (1.0 + 3.0 * w) + 0.0003 * sine(9.0, t)),
+        brake * (0.0006 + 0.0144 * w + 0.0001 * sine(9.0, t)),
         -0.006 * c + 0.0008 * sine(1.2, t),
         math.sin(delta) / radius,
         90e3 + 35e3 * c + 8e3 * sine(1.1, t) + 6e3 * sine(23.0, t),
