@@ -96,7 +96,11 @@ impl Trace {
             times.push(values[0]);
             rows.push(values[1..].to_vec());
         }
-        assert!(times.len() >= 2, "{} has fewer than two rows", path.display());
+        assert!(
+            times.len() >= 2,
+            "{} has fewer than two rows",
+            path.display()
+        );
         let step = times[1] - times[0];
         for w in times.windows(2) {
             assert!(
@@ -197,7 +201,12 @@ impl Drop for Instances {
 unsafe fn step(fmu: Fmi2Component, trace: &Trace, k: usize) -> (i32, Duration) {
     let start = Instant::now();
     let status = unsafe {
-        let set = fmi2SetReal(fmu, trace.vrs.as_ptr(), trace.vrs.len(), trace.rows[k].as_ptr());
+        let set = fmi2SetReal(
+            fmu,
+            trace.vrs.as_ptr(),
+            trace.vrs.len(),
+            trace.rows[k].as_ptr(),
+        );
         assert_eq!(set, 0, "fmi2SetReal of row {k}");
         fmi2DoStep(fmu, trace.times[k], trace.step, 1)
     };
@@ -299,12 +308,19 @@ fn measure(
 ) -> (Vec<Option<Outcome>>, Vec<usize>, Value) {
     let all: Vec<usize> = (0..trace.rows.len()).collect();
     let first = pass(instances, mode, trace, &all);
-    let evaluated: Vec<usize> = all.iter().copied().filter(|&k| first[k].is_some()).collect();
+    let evaluated: Vec<usize> = all
+        .iter()
+        .copied()
+        .filter(|&k| first[k].is_some())
+        .collect();
     let mut times: Vec<(i32, f64)> = first.iter().flatten().map(|o| (o.path, o.nanos)).collect();
     let mut spent: f64 = times.iter().map(|t| t.1).sum::<f64>() * 1e-9;
     let mut passes = 1;
     while !evaluated.is_empty() && spent < TIMING_BUDGET.as_secs_f64() && passes < 100 {
-        for (&k, time) in evaluated.iter().zip(timed_pass(instances, mode, trace, &evaluated)) {
+        for (&k, time) in evaluated
+            .iter()
+            .zip(timed_pass(instances, mode, trace, &evaluated))
+        {
             times.push((first[k].map_or(0, |o| o.path), time.as_nanos() as f64));
             spent += time.as_secs_f64();
         }
