@@ -34,6 +34,8 @@ use common::{Setup, instance};
 
 /// Timed passes of one mode are repeated while their total stays below this.
 const TIMING_BUDGET: Duration = Duration::from_secs(1);
+/// … and at most this many passes.
+const MAX_TIMING_PASSES: usize = 100;
 /// The longest pass criterion repeats (it takes at least 11 passes).
 const CRITERION_PASS_BUDGET: Duration = Duration::from_millis(250);
 /// `fmi2Error`.
@@ -316,7 +318,8 @@ fn measure(
     let mut times: Vec<(i32, f64)> = first.iter().flatten().map(|o| (o.path, o.nanos)).collect();
     let mut spent: f64 = times.iter().map(|t| t.1).sum::<f64>() * 1e-9;
     let mut passes = 1;
-    while !evaluated.is_empty() && spent < TIMING_BUDGET.as_secs_f64() && passes < 100 {
+    while !evaluated.is_empty() && spent < TIMING_BUDGET.as_secs_f64() && passes < MAX_TIMING_PASSES
+    {
         for (&k, time) in evaluated
             .iter()
             .zip(timed_pass(instances, mode, trace, &evaluated))
