@@ -61,10 +61,16 @@ slurm-test:
 
 test: lint test-rust test-python slurm-test
 
+# the MBS input trace of the trace benchmark and the demo (standard-library Python, deterministic)
+TRACE := target/mbs_trace.csv
+$(TRACE): tools/mbs_trace.py
+	$(PYTHON) tools/mbs_trace.py --out $@
+
 # criterion benchmarks in one run: Polach, constant-mu FASTSIM, exact dry and wet, 50-point sweeps, grid
-# scaling, table lookup, FMU fmi2DoStep (exact warm/cold, table) and memory per FMU instance; then the report
-# with every time's ratio to Polach (target/bench/report.md)
-bench:
+# scaling, table lookup, FMU fmi2DoStep (exact warm/cold, table), memory per FMU instance and the MBS trace
+# through the FMU in modes table only, auto and exact (time per step, force errors; about a minute); then
+# the report with every time's ratio to Polach (target/bench/report.md)
+bench: $(TRACE)
 	$(CARGO) bench --workspace
 	python3 tools/bench_report.py
 
