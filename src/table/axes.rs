@@ -466,7 +466,7 @@ fn validate_axis(dim: usize, axis: &Axis) -> Result<()> {
     }
     if let Some(limit) = axis.raw_limit {
         let (lo, hi) = raw_limit_range(dim);
-        if !(limit > lo && limit <= hi) || !matches!(dim, XI | ETA | PHI) {
+        if !(limit > lo && limit <= hi && matches!(dim, XI | ETA | PHI)) {
             return Err(bad(
                 dim,
                 format!("raw_limit {limit} must lie in ({lo}, {hi}] (creepage axes only)"),

@@ -717,7 +717,10 @@ mod tests {
             // one single-point axis (a geometry axis of a one-geometry table)
             f[3] = Fraction::default();
             let c = Corners::of(&f);
-            assert_eq!(c.n, 12, "2² multilinear × 3 simplex corners (a/b is a single point)");
+            assert_eq!(
+                c.n, 12,
+                "2² multilinear × 3 simplex corners (a/b is a single point)"
+            );
             assert!((c.w.iter().sum::<f64>() - 1.0).abs() < 1e-15);
             assert!(c.w.iter().all(|w| *w >= 0.0));
             let x: [f64; LINEAR_DIMS] = std::array::from_fn(|d| f[d].start as f64 + f[d].t);

@@ -101,8 +101,9 @@ pub type Jacobian = [[f64; INPUTS]; JACOBIAN_ROWS];
 /// Rows of a [`Jacobian`].
 pub const JACOBIAN_ROWS: usize = 6;
 
-/// Values per stored point in memory (f32): the outputs and their slopes along φ.
-const ROW: usize = 2 * OUTPUTS;
+/// Values per stored point in memory (f32): the outputs and their slopes along φ, padded with zeros to 12
+/// (48 bytes: one 8-wide and one 4-wide vector).
+const ROW: usize = 12;
 
 /// Positions in a row of output o's value and of its φ slope: values and slopes of outputs 0–1 and 2–3
 /// alternate in pairs, then output 4's value and slope. So the pairs a 16-byte vector holds are both
@@ -554,7 +555,11 @@ impl Table {
                 .map(|k| (corners.start[k] + corners.step[c][k]) * st[FORCE + k])
                 .sum()
         });
-        let (off, wl, dl) = (&off[..n], &corners.w[..n], &corners.dw);
+        // the corner sums' operands: value offsets (rows × ROW) and f32 weights
+        let off_v: [usize; CORNERS] = off.map(|o| o * ROW);
+        let w32: [f32; CORNERS] = corners.w.map(|w| w as f32);
+        let (off, dl) = (&off[..n], &corners.dw);
+        let (off_v, w32) = (&off_v[..n], &w32[..n]);
         let flat = self.rows.as_flattened();
         // stages 0 and 1: values [j][i·OUTPUTS + o] after φ (the layout of the η stage's lanes), with
         // derivatives [i][j][o][F_N, V, w, a/b, p_ref, φ]
@@ -611,7 +616,7 @@ impl Table {
                     let gk = k0 + e as isize;
                     let kk = if fy { n_phi - 1 - gk } else { gk } as usize;
                     let base = ii * st[XI] + jj * st[ETA] + kk * st[PHI];
-                    *a = corner_sum::<FMA>(flat, base, &off, wl);
+                    *a = corner_sum::<FMA>(flat, base * ROW, off_v, w32);
                     if JAC {
                         for (c, o) in off.iter().enumerate() {
                             let row = &self.rows[base + o];
@@ -693,26 +698,54 @@ impl Table {
     }
 }
 
-/// Σ_c w_c·row(base + off_c) over the linear corners (rows widened from the stored f32): fixed-size rows
-/// that stay in registers.
+/// Σ_c w_c·row over the linear corners, the rows' values starting at `base + off[c]` in `flat`, accumulated
+/// in the rows' own f32 (the relative rounding, about 1e-7, is far below the interpolation error), then
+/// widened; in FMA kernels with 8-wide vector multiply-adds.
 #[inline(always)]
-fn corner_sum<const FMA: bool>(flat: &[f32], base: usize, off: &[usize], wl: &[f64]) -> [f64; ROW] {
-    let mut a = [0.0; ROW];
-    for (o, w) in off.iter().zip(wl) {
-        let s = (base + o) * ROW;
-        let r = &flat[s..s + ROW];
+fn corner_sum<const FMA: bool>(flat: &[f32], base: usize, off: &[usize], w: &[f32]) -> [f64; ROW] {
+    #[cfg(target_arch = "x86_64")]
+    if FMA {
+        // SAFETY: FMA kernels run only on CPUs with AVX2 and FMA (`Kernel::supported`)
+        return unsafe { corner_sum_avx2(flat, base, off, w) };
+    }
+    let mut a = [0.0f32; ROW];
+    for c in 0..off.len().min(w.len()) {
+        let s = base + off[c];
+        let r: &[f32; ROW] = flat[s..s + ROW].try_into().expect("a row");
         for k in 0..ROW {
-            a[k] = madd::<FMA>(*w, f64::from(r[k]), a[k]);
+            a[k] += w[c] * r[k];
         }
     }
-    a
+    a.map(f64::from)
 }
 
-/// a·b + c, fused (one rounding) with `FMA`: only inside kernels compiled with the FMA instructions, where
-/// `mul_add` is one instruction (elsewhere it would be a slow library call).
-#[inline(always)]
-fn madd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
-    if FMA { a.mul_add(b, c) } else { a * b + c }
+/// [`corner_sum`] with AVX2 and FMA: a row in one 8-wide and one 4-wide vector multiply-add.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn corner_sum_avx2(flat: &[f32], base: usize, off: &[usize], w: &[f32]) -> [f64; ROW] {
+    use std::arch::x86_64::{
+        _mm_fmadd_ps, _mm_loadu_ps, _mm_set1_ps, _mm_setzero_ps, _mm_storeu_ps, _mm256_fmadd_ps,
+        _mm256_loadu_ps, _mm256_set1_ps, _mm256_setzero_ps, _mm256_storeu_ps,
+    };
+    const { assert!(ROW == 12) };
+    let mut v = _mm256_setzero_ps();
+    let mut t = _mm_setzero_ps();
+    for c in 0..off.len().min(w.len()) {
+        let s = base + off[c];
+        let r: &[f32; ROW] = flat[s..s + ROW].try_into().expect("a row");
+        // SAFETY: `r` holds 12 values: the loads read 0..8 and 8..12 (unaligned loads)
+        unsafe {
+            v = _mm256_fmadd_ps(_mm256_set1_ps(w[c]), _mm256_loadu_ps(r.as_ptr()), v);
+            t = _mm_fmadd_ps(_mm_set1_ps(w[c]), _mm_loadu_ps(r.as_ptr().add(8)), t);
+        }
+    }
+    let mut a = [0.0f32; ROW];
+    // SAFETY: `a` holds 12 values: the stores write 0..8 and 8..12
+    unsafe {
+        _mm256_storeu_ps(a.as_mut_ptr(), v);
+        _mm_storeu_ps(a.as_mut_ptr().add(8), t);
+    }
+    a.map(f64::from)
 }
 
 /// A table in memory from node values `f(coordinates) -> outputs` (for tests).
@@ -961,7 +994,8 @@ mod tests {
                 )
             })
             .collect();
-        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (a.abs() + b.abs());
+        // the corner sums accumulate in f32, fused in the vector kernel: rounding differences of ~1e-7
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * (a.abs() + b.abs());
         let mut compared = 0;
         for kernel in Kernel::ALL {
             if t.set_kernel(kernel).is_err() {
@@ -988,7 +1022,7 @@ mod tests {
                 for (rk, r) in jk.iter().zip(j) {
                     let scale = r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
                     for (x, y) in rk.iter().zip(r) {
-                        assert!((x - y).abs() <= 1e-9 * scale, "{kernel:?}: {x} vs {y}");
+                        assert!((x - y).abs() <= 1e-5 * scale, "{kernel:?}: {x} vs {y}");
                     }
                 }
             }
