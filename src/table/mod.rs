@@ -102,7 +102,7 @@ pub type Jacobian = [[f64; INPUTS]; JACOBIAN_ROWS];
 pub const JACOBIAN_ROWS: usize = 6;
 
 /// Values per stored point in memory (f32): the outputs and their slopes along φ, padded with zeros to 12
-/// (48 bytes: one 8-wide and one 4-wide vector).
+/// (48 bytes: three 4-wide vectors).
 const ROW: usize = 12;
 
 /// Positions in a row of output o's value and of its φ slope: values and slopes of outputs 0–1 and 2–3
@@ -555,11 +555,10 @@ impl Table {
                 .map(|k| (corners.start[k] + corners.step[c][k]) * st[FORCE + k])
                 .sum()
         });
-        // the corner sums' operands: value offsets (rows × ROW) and f32 weights
+        // the corner sums' operands: value offsets (rows × ROW) and weights
         let off_v: [usize; CORNERS] = off.map(|o| o * ROW);
-        let w32: [f32; CORNERS] = corners.w.map(|w| w as f32);
         let (off, dl) = (&off[..n], &corners.dw);
-        let (off_v, w32) = (&off_v[..n], &w32[..n]);
+        let (off_v, wl) = (&off_v[..n], &corners.w[..n]);
         let flat = self.rows.as_flattened();
         // stages 0 and 1: values [j][i·OUTPUTS + o] after φ (the layout of the η stage's lanes), with
         // derivatives [i][j][o][F_N, V, w, a/b, p_ref, φ]
@@ -616,7 +615,7 @@ impl Table {
                     let gk = k0 + e as isize;
                     let kk = if fy { n_phi - 1 - gk } else { gk } as usize;
                     let base = ii * st[XI] + jj * st[ETA] + kk * st[PHI];
-                    *a = corner_sum::<FMA>(flat, base * ROW, off_v, w32);
+                    *a = corner_sum::<FMA>(flat, base * ROW, off_v, wl);
                     if JAC {
                         for (c, o) in off.iter().enumerate() {
                             let row = &self.rows[base + o];
@@ -698,54 +697,53 @@ impl Table {
     }
 }
 
-/// Σ_c w_c·row over the linear corners, the rows' values starting at `base + off[c]` in `flat`, accumulated
-/// in the rows' own f32 (the relative rounding, about 1e-7, is far below the interpolation error), then
-/// widened; in FMA kernels with 8-wide vector multiply-adds.
+/// Σ_c w_c·row over the linear corners, the rows' values starting at `base + off[c]` in `flat`, widened to
+/// f64 and accumulated in f64; in FMA kernels with 4-wide vector conversions and fused multiply-adds (the
+/// kernels then differ in the last bits only).
 #[inline(always)]
-fn corner_sum<const FMA: bool>(flat: &[f32], base: usize, off: &[usize], w: &[f32]) -> [f64; ROW] {
+fn corner_sum<const FMA: bool>(flat: &[f32], base: usize, off: &[usize], w: &[f64]) -> [f64; ROW] {
     #[cfg(target_arch = "x86_64")]
     if FMA {
         // SAFETY: FMA kernels run only on CPUs with AVX2 and FMA (`Kernel::supported`)
         return unsafe { corner_sum_avx2(flat, base, off, w) };
     }
-    let mut a = [0.0f32; ROW];
+    let mut a = [0.0; ROW];
     for c in 0..off.len().min(w.len()) {
         let s = base + off[c];
         let r: &[f32; ROW] = flat[s..s + ROW].try_into().expect("a row");
         for k in 0..ROW {
-            a[k] += w[c] * r[k];
+            a[k] += w[c] * f64::from(r[k]);
         }
     }
-    a.map(f64::from)
+    a
 }
 
-/// [`corner_sum`] with AVX2 and FMA: a row in one 8-wide and one 4-wide vector multiply-add.
+/// [`corner_sum`] with AVX2 and FMA: a row as three 4-wide f32 → f64 conversions and fused multiply-adds.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-fn corner_sum_avx2(flat: &[f32], base: usize, off: &[usize], w: &[f32]) -> [f64; ROW] {
+fn corner_sum_avx2(flat: &[f32], base: usize, off: &[usize], w: &[f64]) -> [f64; ROW] {
     use std::arch::x86_64::{
-        _mm_fmadd_ps, _mm_loadu_ps, _mm_set1_ps, _mm_setzero_ps, _mm_storeu_ps, _mm256_fmadd_ps,
-        _mm256_loadu_ps, _mm256_set1_ps, _mm256_setzero_ps, _mm256_storeu_ps,
+        _mm_loadu_ps, _mm256_cvtps_pd, _mm256_fmadd_pd, _mm256_set1_pd, _mm256_setzero_pd,
+        _mm256_storeu_pd,
     };
     const { assert!(ROW == 12) };
-    let mut v = _mm256_setzero_ps();
-    let mut t = _mm_setzero_ps();
+    let mut v = [_mm256_setzero_pd(); 3];
     for c in 0..off.len().min(w.len()) {
         let s = base + off[c];
         let r: &[f32; ROW] = flat[s..s + ROW].try_into().expect("a row");
-        // SAFETY: `r` holds 12 values: the loads read 0..8 and 8..12 (unaligned loads)
-        unsafe {
-            v = _mm256_fmadd_ps(_mm256_set1_ps(w[c]), _mm256_loadu_ps(r.as_ptr()), v);
-            t = _mm_fmadd_ps(_mm_set1_ps(w[c]), _mm_loadu_ps(r.as_ptr().add(8)), t);
+        let wc = _mm256_set1_pd(w[c]);
+        for (k, x) in v.iter_mut().enumerate() {
+            // SAFETY: `r` holds 12 values: the load reads 4k..4k + 4 (unaligned load)
+            let row = _mm256_cvtps_pd(unsafe { _mm_loadu_ps(r.as_ptr().add(4 * k)) });
+            *x = _mm256_fmadd_pd(wc, row, *x);
         }
     }
-    let mut a = [0.0f32; ROW];
-    // SAFETY: `a` holds 12 values: the stores write 0..8 and 8..12
-    unsafe {
-        _mm256_storeu_ps(a.as_mut_ptr(), v);
-        _mm_storeu_ps(a.as_mut_ptr().add(8), t);
+    let mut a = [0.0; ROW];
+    for (k, x) in v.iter().enumerate() {
+        // SAFETY: `a` holds 12 values: the store writes 4k..4k + 4
+        unsafe { _mm256_storeu_pd(a.as_mut_ptr().add(4 * k), *x) };
     }
-    a.map(f64::from)
+    a
 }
 
 /// A table in memory from node values `f(coordinates) -> outputs` (for tests).
@@ -994,8 +992,7 @@ mod tests {
                 )
             })
             .collect();
-        // the corner sums accumulate in f32, fused in the vector kernel: rounding differences of ~1e-7
-        let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * (a.abs() + b.abs());
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (a.abs() + b.abs());
         let mut compared = 0;
         for kernel in Kernel::ALL {
             if t.set_kernel(kernel).is_err() {
@@ -1022,7 +1019,7 @@ mod tests {
                 for (rk, r) in jk.iter().zip(j) {
                     let scale = r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
                     for (x, y) in rk.iter().zip(r) {
-                        assert!((x - y).abs() <= 1e-5 * scale, "{kernel:?}: {x} vs {y}");
+                        assert!((x - y).abs() <= 1e-9 * scale, "{kernel:?}: {x} vs {y}");
                     }
                 }
             }
