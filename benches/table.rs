@@ -38,6 +38,7 @@ fn geometry_table() -> Table {
             0.01 * sat(q[2]),
             300.0 + 100.0 * q[0].abs().sqrt(),
             0.5 * q[5],
+            0.01 * sat(q[0]).abs(),
         ]
     });
     Table::from_files(files, None).expect("table")

@@ -241,7 +241,7 @@ fn builds_are_identical_whatever_the_thread_count_and_shards_merge_to_the_same_a
     build(&params, &axes, &one, &[], "1");
     build(&params, &axes, &two, &[], "2");
     let arrays = array_files(&one);
-    assert_eq!(arrays.len(), 6);
+    assert_eq!(arrays.len(), 7);
     assert_eq!(arrays, array_files(&two));
     let (mut s1, mut s2) = (sidecar(&one), sidecar(&two));
     assert_eq!(s1["build"]["threads"], 1);
@@ -518,6 +518,7 @@ fn point_by_table_has_the_exact_keys_and_agrees_at_table_points() {
         "semi_axis_b",
         "peak_pressure",
         "normal_force",
+        "frictional_power",
     ] {
         let (a, b) = (t[k].as_f64().unwrap(), e[k].as_f64().unwrap());
         assert!((a - b).abs() <= 1e-6 * b.abs().max(1.0), "{k}: {a} vs {b}");

@@ -19,8 +19,7 @@
 //! - **Normal contact:** every evaluation states its contact ellipse and peak pressure ([`Patch`]): the
 //!   exact solver's, by table the same Hertz solution (docs/model.md §2) of the evaluation's geometry (for
 //!   the model's own geometry from its shape, made once). The frictional power (docs/model.md §6.3, §7.4)
-//!   only the exact solver gives: the table does not store it, and the creep power F·V·creepage is not it
-//!   (see [`Evaluation::frictional_power`]).
+//!   comes from the exact solver or a table of format version 2 (see [`Evaluation::frictional_power`]).
 //! - **Derivatives:** by table, the exact derivatives of the interpolant chained through the frame turn,
 //!   the minimum speed and the wetness clamp ([`Evaluator::table_jacobian`]). Elsewhere the caller
 //!   differences [`Evaluator::evaluate`] with the solver tolerance tightened to [`DERIVATIVE_TOLERANCE`],
@@ -207,14 +206,13 @@ impl Evaluation {
 
     /// The frictional power dissipated in the contact, Σ|τ|·|s| over the slipping cells [W]
     /// (docs/model.md §6.3, §7.4; the work-rate basis of Tγ wear indices): the exact solver's, 0 for a lifted
-    /// wheel, None by table. The table does not store it, and the creep power −(F_x·ξ + F_y·η + M_z·φ)·V
-    /// that its outputs give is not it in general (it also contains the elastic energy released at the
-    /// trailing edge), so no estimate is made.
+    /// wheel, by table the interpolated one — None from a table of format version 1, which does not store
+    /// it (the creep power −(F_x·ξ + F_y·η + M_z·φ)·V that its outputs give is not it in general: it also
+    /// contains the elastic energy released at the trailing edge, so no estimate is made).
     pub fn frictional_power(&self) -> Option<f64> {
         match &self.by {
             Evaluated::Exact(e) => Some(e.global.frictional_power),
-            Evaluated::Lifted(_) => Some(0.0),
-            Evaluated::Table(_) => None,
+            Evaluated::Table(o) | Evaluated::Lifted(o) => o.frictional_power,
         }
     }
 }
@@ -494,6 +492,7 @@ impl Evaluator {
                 traction_coefficient: 0.0,
                 max_temperature: self.model.params().material.bulk_temperature,
                 fluid_load_fraction: 0.0,
+                frictional_power: Some(0.0),
                 in_range: true,
                 converged: true,
             }),

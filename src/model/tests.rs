@@ -186,6 +186,9 @@ fn auto_uses_the_table_where_usable_and_else_the_exact_solver_with_the_reason() 
         );
         assert!((x - y).abs() < 1e-6 * 80e3, "{k}: {x} vs {y}");
     }
+    // the frictional power, stored as P_f/(F_N·V) in f32
+    let (pa, pb) = (a.frictional_power().unwrap(), b.frictional_power().unwrap());
+    assert!(pb > 0.0 && (pa / pb - 1.0).abs() < 1e-5, "{pa} vs {pb}");
 }
 
 #[test]
@@ -604,14 +607,18 @@ fn auto_falls_back_for_another_geometry_and_uses_the_table_for_its_own() {
             .0
             .is_none()
     );
-    // the table's geometry by table, with the exact solver's normal contact and no frictional power
+    // the table's geometry by table, with the exact solver's normal contact and the interpolated
+    // frictional power
     let g = table().params().geometry.clone();
     let r = auto.evaluate_at(&inside(), &g, None, &mut None).unwrap();
     assert!(matches!(r.by, Evaluated::Table(_)));
     assert!(r.notices.is_empty());
     assert_eq!(r, eval(&auto, &inside()));
-    assert_eq!(r.frictional_power(), None);
     let s = crate::solve(&params(), &inside()).unwrap();
+    // (interpolated on this coarse table's points; at a table point it is the exact solver's, see
+    // auto_uses_the_table_where_usable_and_else_the_exact_solver_with_the_reason)
+    let power = r.frictional_power().expect("a format 2 table stores it");
+    assert!(power > 0.0 && s.global.frictional_power > 0.0);
     assert_eq!(r.patch.semi_axis_a, s.global.semi_axis_a);
     assert_eq!(r.patch.semi_axis_b, s.global.semi_axis_b);
     assert_eq!(r.patch.peak_pressure, s.global.peak_pressure);

@@ -69,17 +69,19 @@ struct PointResult {
     residual: f64,
 }
 
-/// The stored outputs of a solution at normal force F_N [N] with contact radius c = sqrt(a·b) [m]: F_x/F_N,
-/// F_y/F_N, M_z/(F_N·c), T_max [K], fluid load fraction, rounded to the stored f32 (an error if the solution
-/// lacks one, [`TableOutput::from_solution`]).
-pub fn normalised(s: &Solution, normal_force: f64, radius: f64) -> Result<[f32; OUTPUTS]> {
+/// The stored outputs of a solution at normal force F_N [N], speed V [m/s] with contact radius c = sqrt(a·b)
+/// [m]: F_x/F_N, F_y/F_N, M_z/(F_N·c), T_max [K], fluid load fraction, P_f/(F_N·V), rounded to the stored
+/// f32 (an error if the solution lacks one, [`TableOutput::from_solution`]).
+pub fn normalised(s: &Solution, point: &OperatingPoint, radius: f64) -> Result<[f32; OUTPUTS]> {
     let o = TableOutput::from_solution(s)?;
+    let f = point.normal_force;
     Ok([
-        o.force_x / normal_force,
-        o.force_y / normal_force,
-        o.spin_moment / (normal_force * radius),
+        o.force_x / f,
+        o.force_y / f,
+        o.spin_moment / (f * radius),
         o.max_temperature,
         o.fluid_load_fraction,
+        s.global.frictional_power / (f * point.speed.abs()),
     ]
     .map(|v| v as f32))
 }
@@ -252,7 +254,7 @@ impl Cube {
                     out[flat(i, j, l)] = Some(
                         r.and_then(|sol| {
                             Ok(PointResult {
-                                outputs: normalised(&sol, point.normal_force, radius)?,
+                                outputs: normalised(&sol, &point, radius)?,
                                 converged: sol.report.converged,
                                 residual: sol.report.residual,
                             })

@@ -31,8 +31,8 @@ pub const CONVERGED_FILE: &str = "converged.npy";
 /// Version of the model (the crate version) recorded in and required of every table.
 pub const MODEL_VERSION: &str = env!("CARGO_PKG_VERSION");
 
-/// Number of stored outputs.
-pub const OUTPUTS: usize = 5;
+/// Number of stored outputs (format version 1 stored the first five).
+pub const OUTPUTS: usize = 6;
 
 /// One stored output: name (= file stem), unit, meaning.
 pub struct OutputInfo {
@@ -70,6 +70,11 @@ pub const OUTPUT_INFO: [OutputInfo; OUTPUTS] = [
         name: "fluid_load_fraction",
         unit: "-",
         description: "share of the normal force carried by fluid pressure",
+    },
+    OutputInfo {
+        name: "frictional_power_per_normal_force_speed",
+        unit: "-",
+        description: "P_f/(F_N·V), P_f = Σ|τ|·|s|·ΔA the frictional power dissipated in the contact",
     },
 ];
 
@@ -497,7 +502,12 @@ impl TableFiles {
         }
         let axes = axes_of(&sidecar, &side_path)?;
         let names: Vec<&str> = sidecar.outputs.iter().map(|o| o.name.as_str()).collect();
-        let want: Vec<&str> = OUTPUT_INFO.iter().map(|o| o.name).collect();
+        let stored = if sidecar.format_version == 1 {
+            OUTPUTS - 1
+        } else {
+            OUTPUTS
+        };
+        let want: Vec<&str> = OUTPUT_INFO[..stored].iter().map(|o| o.name).collect();
         if names != want {
             return Err(corrupt(
                 &side_path,
@@ -532,6 +542,10 @@ impl TableFiles {
                 return Err(corrupt(&dir.join(&rec.file), "non-finite values"));
             }
             outputs.push(v);
+        }
+        if stored < OUTPUTS {
+            // format version 1 has no frictional power: NaN, which the table reports as absent
+            outputs.push(vec![f32::NAN; outputs[0].len()]);
         }
         let converged = read_array::<u8>(dir, &sidecar.converged, &shape)?
             .into_raw_vec_and_offset()

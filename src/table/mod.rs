@@ -50,6 +50,9 @@ pub struct TableOutput {
     pub max_temperature: f64,
     /// Share of the normal force carried by the fluid [-] (clamped to [0, 1]).
     pub fluid_load_fraction: f64,
+    /// The frictional power Σ|τ|·|s| dissipated in the contact [W] (docs/model.md §6.3, §7.4; not below 0);
+    /// None from a table of format version 1, which does not store it.
+    pub frictional_power: Option<f64>,
     /// Whether the point lies inside every axis range; outside, each coordinate is clamped to its range
     /// (the normalised outputs are held at the boundary; forces still scale with the actual F_N).
     pub in_range: bool,
@@ -82,6 +85,7 @@ impl TableOutput {
             traction_coefficient: g.traction_coefficient,
             max_temperature: modelled("maximum temperature", g.max_temperature)?,
             fluid_load_fraction: modelled("fluid load fraction", g.fluid_load_fraction)?,
+            frictional_power: Some(g.frictional_power),
             in_range: true,
             converged: report.converged,
         })
@@ -101,15 +105,15 @@ pub type Jacobian = [[f64; INPUTS]; JACOBIAN_ROWS];
 /// Rows of a [`Jacobian`].
 pub const JACOBIAN_ROWS: usize = 6;
 
-/// Values per stored point in memory (f32): the outputs and their slopes along φ, padded with zeros to 12
-/// (48 bytes: three 4-wide vectors).
-const ROW: usize = 12;
+/// Values per stored point in memory (f32): the outputs and their slopes along φ (48 bytes: three 4-wide
+/// vectors).
+const ROW: usize = 2 * OUTPUTS;
 
-/// Positions in a row of output o's value and of its φ slope: values and slopes of outputs 0–1 and 2–3
-/// alternate in pairs, then output 4's value and slope. So the pairs a 16-byte vector holds are both
-/// values or both slopes (or output 4's value and slope), which keeps the Hermite stage in registers.
-const VAL: [usize; OUTPUTS] = [0, 1, 4, 5, 8];
-const SLOPE: [usize; OUTPUTS] = [2, 3, 6, 7, 9];
+/// Positions in a row of output o's value and of its φ slope: values and slopes of outputs 0–1, 2–3 and 4–5
+/// alternate in pairs. So the pairs a 16-byte vector holds are both values or both slopes, which keeps the
+/// Hermite stage in registers.
+const VAL: [usize; OUTPUTS] = [0, 1, 4, 5, 8, 9];
+const SLOPE: [usize; OUTPUTS] = [2, 3, 6, 7, 10, 11];
 
 /// Interpolated normalised outputs and their derivatives with respect to the (mirrored, clamped)
 /// coordinates.
@@ -172,6 +176,8 @@ pub struct Table {
     bulk_temperature: f64,
     /// The table's coordinates of operating points.
     coordinates: Coordinates,
+    /// Whether the table stores the frictional power (format version 2).
+    has_power: bool,
     path: Option<PathBuf>,
     kernel: Kernel,
 }
@@ -242,6 +248,7 @@ impl Table {
         Ok(Table {
             bulk_temperature: files.sidecar.params.material.bulk_temperature,
             coordinates: Coordinates::new(&files.sidecar.params, axes.normalised()),
+            has_power: files.sidecar.format_version > 1,
             all_converged: files.converged.iter().all(|c| *c == 1),
             converged: files.converged,
             sidecar: files.sidecar,
@@ -309,6 +316,11 @@ impl Table {
     /// every value survives the sidecar's JSON bit for bit). Cheap enough to call per evaluation.
     pub fn matches(&self, params: &Params) -> bool {
         self.sidecar.params == *params
+    }
+
+    /// Whether the table stores the frictional power (format version 2).
+    pub fn stores_frictional_power(&self) -> bool {
+        self.has_power
     }
 
     /// How the table turns operating points and contacts into its coordinates.
@@ -465,7 +477,7 @@ impl Table {
         // undo the mirrors: output signs S and input signs D (J = S·J'·D)
         let sx = if mx { -1.0 } else { 1.0 };
         let sy = if my { -1.0 } else { 1.0 };
-        let out_sign = [sx, sy, sy, 1.0, 1.0];
+        let out_sign = [sx, sy, sy, 1.0, 1.0, 1.0];
         let in_sign = [sx, sy, sy, 1.0, 1.0, 1.0, 1.0, 1.0];
         let g: [f64; OUTPUTS] = std::array::from_fn(|o| out_sign[o] * core.v[o]);
         let f = point.normal_force;
@@ -477,6 +489,9 @@ impl Table {
             traction_coefficient: g[0].hypot(g[1]),
             max_temperature: core.v[3].max(self.bulk_temperature),
             fluid_load_fraction: core.v[4].clamp(0.0, 1.0),
+            frictional_power: self
+                .has_power
+                .then(|| (f * point.speed.abs() * core.v[5]).max(0.0)),
             in_range: inside.iter().all(|x| *x) && self.within_raw_limits(point),
             converged: core.converged,
         };
@@ -607,8 +622,8 @@ impl Table {
                 // and reverses φ (slopes flip once more)
                 let sx = if fx { -1.0 } else { 1.0 };
                 let sy = if fy { -1.0 } else { 1.0 };
-                let sv = [sx, sy, sy, 1.0, 1.0];
-                let sd = [sx * sy, 1.0, 1.0, sy, sy];
+                let sv = [sx, sy, sy, 1.0, 1.0, 1.0];
+                let sd = [sx * sy, 1.0, 1.0, sy, sy, sy];
                 let mut acc = [[0.0; ROW]; 2];
                 let mut acc_d = [[[0.0; L]; ROW]; 2];
                 for (e, (a, ad)) in acc.iter_mut().zip(acc_d.iter_mut()).enumerate() {
@@ -853,6 +868,7 @@ mod tests {
             lin * (0.02 * p - 0.007 * y),
             300.0 + 50.0 * lin * (1.0 + 0.04 * y * p),
             0.3 * w + 0.001 * v,
+            lin * (0.01 + 0.002 * x * x + 0.003 * y * p),
         ]
     }
 
@@ -868,6 +884,7 @@ mod tests {
             lin * (0.02 * p - sat(y) * (1.0 + 0.01 * x * x)),
             300.0 + 50.0 * lin * (0.01 * x * x + y * p),
             0.3 * w * (1.0 - 0.002 * v),
+            0.05 * lin * sat(x).abs(),
         ]
     }
 
@@ -1149,7 +1166,7 @@ mod tests {
             });
             let got = t.core::<false, false>(&q).v;
             for o in 0..OUTPUTS {
-                let scale = [1.0, 1.0, 0.1, 300.0, 0.3][o];
+                let scale = [1.0, 1.0, 0.1, 300.0, 0.3, 0.05][o];
                 assert!(
                     (got[o] - want[o]).abs() < 1e-12 * scale,
                     "output {o} at {q:?}: {} vs {}",
@@ -1171,6 +1188,7 @@ mod tests {
                 c[2] + c[0],
                 300.0 + c[0],
                 0.1,
+                0.01 + c[0] * c[0],
             ]
         });
         let (pt, e) = at(&t, &[2.0, 0.8, 0.3, 70e3, 20.0, 0.5, 0.55, 0.8e9], 0.0);

@@ -163,6 +163,8 @@ pub struct VerifyReport {
     pub max_temperature: Stats,
     /// |Δ fluid load fraction| [-].
     pub fluid_load_fraction: Stats,
+    /// |ΔP_f|/(F_N·V), frictional power [-] (None: the table does not store it, format version 1).
+    pub frictional_power: Option<Stats>,
     /// Where the force error is largest.
     pub worst: Option<Worst>,
 }
@@ -186,7 +188,7 @@ pub fn verify(
     on_point: &(dyn Fn() + Sync),
 ) -> Result<VerifyReport> {
     // per point: None if the exact solution did not converge, else (errors, table converged)
-    let rows: Vec<Option<([f64; 5], bool)>> = points
+    let rows: Vec<Option<([f64; 6], bool)>> = points
         .par_iter()
         .with_max_len(1)
         .map(|sample| {
@@ -209,12 +211,15 @@ pub fn verify(
                     (t.traction_coefficient - g.traction_coefficient).abs(),
                     (t.max_temperature - g.max_temperature).abs(),
                     (t.fluid_load_fraction - g.fluid_load_fraction).abs(),
+                    t.frictional_power
+                        .zip(g.frictional_power)
+                        .map_or(0.0, |(a, b)| (a - b).abs() / (f * p.speed.abs())),
                 ],
                 t.converged,
             )))
         })
         .collect::<Result<_>>()?;
-    let mut cols: [Vec<f64>; 5] = Default::default();
+    let mut cols: [Vec<f64>; 6] = Default::default();
     let mut worst: Option<Worst> = None;
     let mut skipped = 0;
     let mut table_unconverged = 0;
@@ -244,6 +249,7 @@ pub fn verify(
         traction_coefficient: Stats::of(&cols[2]),
         max_temperature: Stats::of(&cols[3]),
         fluid_load_fraction: Stats::of(&cols[4]),
+        frictional_power: table.stores_frictional_power().then(|| Stats::of(&cols[5])),
         worst,
     })
 }
@@ -278,7 +284,7 @@ mod tests {
         let t = super::super::synthetic(
             &super::super::tiny_axes(),
             &super::super::coarse_params(),
-            &|_| [0.0, 0.0, 0.0, 300.0, 0.0],
+            &|_| [0.0, 0.0, 0.0, 300.0, 0.0, 0.0],
         );
         let pts = sample_points(&t, 400, 3);
         assert!(pts.iter().all(|s| t.in_range(&s.point, &s.ellipse)));

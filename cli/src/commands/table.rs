@@ -357,20 +357,27 @@ fn print_report(r: &VerifyReport, seconds: f64) {
         "{:>26}  {:>10}  {:>10}  {:>10}",
         "error", "max", "p99", "mean"
     );
+    let power = r.frictional_power.map(|s| ("|dP_f|/(F_N V)", s));
     for (name, s) in [
         ("|dF|/F_N", r.force),
         ("|dM_z|/(F_N c)", r.spin_moment),
         ("|df| traction coeff.", r.traction_coefficient),
         ("|dT_max| [K]", r.max_temperature),
         ("|d fluid load fraction|", r.fluid_load_fraction),
-    ] {
+    ]
+    .into_iter()
+    .chain(power)
+    {
         println!(
             "{name:>26}  {:>10.3e}  {:>10.3e}  {:>10.3e}",
             s.max, s.p99, s.mean
         );
     }
     if let Some(w) = r.worst {
-        println!("worst |dF|/F_N {:.3e} at {:?}", w.force_error, w.point);
+        println!(
+            "worst |dF|/F_N {:.3e} at {:?}, semi-axes {:?} m",
+            w.force_error, w.point, w.semi_axes
+        );
     }
     println!(
         "target (p99 <= {TARGET_P99}, max <= {TARGET_MAX}): {}",
@@ -472,6 +479,7 @@ pub fn point_json(
         "peak_pressure": h.p0,
         "max_temperature": o.max_temperature,
         "fluid_load_fraction": o.fluid_load_fraction,
+        "frictional_power": o.frictional_power,
         "converged": o.converged,
         "in_range": o.in_range,
         "friction_law": params.friction.law.to_string(),

@@ -416,8 +416,7 @@ fn param_key(values: &Values) -> ParamKey {
     key
 }
 
-/// Writes an evaluation's outputs: the six of the table, the contact ellipse and peak pressure, the
-/// frictional power (NaN by table, which does not give it: see the variable's description), and
+/// Writes an evaluation's outputs: the six of the table, the contact ellipse and peak pressure, and
 /// `evaluation_mode`, `converged`.
 fn write_outputs(values: &mut Values, e: &Evaluation, o: &TableOutput, mode: i32) {
     for (i, x) in [
