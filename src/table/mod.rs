@@ -574,6 +574,7 @@ impl Table {
         let off_v: [usize; CORNERS] = off.map(|o| o * ROW);
         let (off, dl) = (&off[..n], &corners.dw);
         let (off_v, wl) = (&off_v[..n], &corners.w[..n]);
+        let max_off = off_v.iter().copied().max().unwrap_or(0);
         let flat = self.rows.as_flattened();
         // stages 0 and 1: values [j][i·OUTPUTS + o] after φ (the layout of the η stage's lanes), with
         // derivatives [i][j][o][F_N, V, w, a/b, p_ref, φ]
@@ -630,7 +631,7 @@ impl Table {
                     let gk = k0 + e as isize;
                     let kk = if fy { n_phi - 1 - gk } else { gk } as usize;
                     let base = ii * st[XI] + jj * st[ETA] + kk * st[PHI];
-                    *a = corner_sum::<FMA>(flat, base * ROW, off_v, wl);
+                    *a = corner_sum::<FMA>(flat, base * ROW, off_v, max_off, wl);
                     if JAC {
                         for (c, o) in off.iter().enumerate() {
                             let row = &self.rows[base + o];
@@ -714,18 +715,32 @@ impl Table {
 
 /// Σ_c w_c·row over the linear corners, the rows' values starting at `base + off[c]` in `flat`, widened to
 /// f64 and accumulated in f64; in FMA kernels with 4-wide vector conversions and fused multiply-adds (the
-/// kernels then differ in the last bits only).
+/// kernels then differ in the last bits only). `max_off` is the largest of `off` (the caller's invariant):
+/// the rows are checked to lie in `flat` once per call; rows out of bounds give NaN, never a read outside
+/// `flat`.
 #[inline(always)]
-fn corner_sum<const FMA: bool>(flat: &[f32], base: usize, off: &[usize], w: &[f64]) -> [f64; ROW] {
+fn corner_sum<const FMA: bool>(
+    flat: &[f32],
+    base: usize,
+    off: &[usize],
+    max_off: usize,
+    w: &[f64],
+) -> [f64; ROW] {
+    let n = off.len().min(w.len());
+    debug_assert!(off.iter().all(|o| *o <= max_off));
+    if base + max_off + ROW > flat.len() {
+        return [f64::NAN; ROW];
+    }
     #[cfg(target_arch = "x86_64")]
     if FMA {
-        // SAFETY: FMA kernels run only on CPUs with AVX2 and FMA (`Kernel::supported`)
-        return unsafe { corner_sum_avx2(flat, base, off, w) };
+        // SAFETY: FMA kernels run only on CPUs with AVX2 and FMA (`Kernel::supported`); every row
+        // base + off[c] .. + ROW lies in `flat` (checked above)
+        return unsafe { corner_sum_avx2(flat, base, &off[..n], w) };
     }
     let mut a = [0.0; ROW];
-    for c in 0..off.len().min(w.len()) {
+    for c in 0..n {
         let s = base + off[c];
-        let r: &[f32; ROW] = flat[s..s + ROW].try_into().expect("a row");
+        let r = &flat[s..s + ROW];
         for k in 0..ROW {
             a[k] += w[c] * f64::from(r[k]);
         }
@@ -734,22 +749,26 @@ fn corner_sum<const FMA: bool>(flat: &[f32], base: usize, off: &[usize], w: &[f6
 }
 
 /// [`corner_sum`] with AVX2 and FMA: a row as three 4-wide f32 → f64 conversions and fused multiply-adds.
+///
+/// # Safety
+/// Every row `base + off[c] .. base + off[c] + ROW` must lie in `flat`, and `w` hold at least `off.len()`
+/// weights.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-fn corner_sum_avx2(flat: &[f32], base: usize, off: &[usize], w: &[f64]) -> [f64; ROW] {
+unsafe fn corner_sum_avx2(flat: &[f32], base: usize, off: &[usize], w: &[f64]) -> [f64; ROW] {
     use std::arch::x86_64::{
         _mm_loadu_ps, _mm256_cvtps_pd, _mm256_fmadd_pd, _mm256_set1_pd, _mm256_setzero_pd,
         _mm256_storeu_pd,
     };
     const { assert!(ROW == 12) };
     let mut v = [_mm256_setzero_pd(); 3];
-    for c in 0..off.len().min(w.len()) {
-        let s = base + off[c];
-        let r: &[f32; ROW] = flat[s..s + ROW].try_into().expect("a row");
-        let wc = _mm256_set1_pd(w[c]);
+    let p = flat.as_ptr();
+    for (c, o) in off.iter().enumerate() {
+        // SAFETY: the caller guarantees c < w.len() and that the row lies in `flat`
+        let (wc, r) = unsafe { (_mm256_set1_pd(*w.get_unchecked(c)), p.add(base + o)) };
         for (k, x) in v.iter_mut().enumerate() {
-            // SAFETY: `r` holds 12 values: the load reads 4k..4k + 4 (unaligned load)
-            let row = _mm256_cvtps_pd(unsafe { _mm_loadu_ps(r.as_ptr().add(4 * k)) });
+            // SAFETY: values 4k .. 4k + 4 of the row (unaligned load)
+            let row = _mm256_cvtps_pd(unsafe { _mm_loadu_ps(r.add(4 * k)) });
             *x = _mm256_fmadd_pd(wc, row, *x);
         }
     }
