@@ -964,3 +964,130 @@ fn directional_derivatives_match_differences_and_kalkers_linear_stiffness() {
     let mut s = 0;
     assert_eq!(unsafe { (fmi().get_status)(f.c, 1, &mut s) }, DISCARD);
 }
+
+/// The Real outputs compared bit for bit after a restored state.
+const REAL_OUTPUTS: [&str; 9] = [
+    "force_longitudinal",
+    "force_lateral",
+    "spin_moment",
+    "traction_coefficient",
+    "max_temperature",
+    "fluid_load_fraction",
+    "contact_semi_axis_a",
+    "contact_semi_axis_b",
+    "peak_pressure",
+];
+
+impl Fmu {
+    /// Sets ξ, η, F_N, V, w (no spin) and steps.
+    fn step_at(&self, t: f64, [xi, eta, load, speed, wetness]: [f64; 5]) -> c_int {
+        for (name, x) in [
+            ("creepage_longitudinal", xi),
+            ("creepage_lateral", eta),
+            ("normal_force", load),
+            ("rolling_speed", speed),
+            ("wetness", wetness),
+        ] {
+            assert_eq!(self.set(name, x), OK);
+        }
+        self.step(t)
+    }
+
+    /// Every Real output and `evaluation_mode`.
+    fn outputs(&self) -> ([f64; 9], i32) {
+        (REAL_OUTPUTS.map(|n| self.get(n)), self.get_int("evaluation_mode"))
+    }
+
+    /// The serialized bytes of the current FMU state.
+    fn serialized_state(&self) -> Vec<c_char> {
+        let mut state: *mut c_void = null_mut();
+        let mut size = 0usize;
+        let mut bytes;
+        unsafe {
+            assert_eq!((fmi().get_fmu_state)(self.c, &mut state), OK);
+            assert_eq!((fmi().serialized_size)(self.c, state, &mut size), OK);
+            bytes = vec![0 as c_char; size];
+            assert_eq!((fmi().serialize)(self.c, state, bytes.as_mut_ptr(), size), OK);
+            assert_eq!((fmi().free_fmu_state)(self.c, &mut state), OK);
+        }
+        bytes
+    }
+
+    /// Deserializes `bytes` and sets the state into this instance.
+    fn restore_from(&self, bytes: &[c_char]) {
+        let mut state: *mut c_void = null_mut();
+        unsafe {
+            assert_eq!(
+                (fmi().deserialize)(self.c, bytes.as_ptr(), bytes.len(), &mut state),
+                OK,
+                "{}",
+                self.last_error()
+            );
+            assert_eq!((fmi().set_fmu_state)(self.c, state), OK);
+            assert_eq!((fmi().free_fmu_state)(self.c, &mut state), OK);
+        }
+    }
+}
+
+/// Issue 16's scenario: instance a and b (other parameters) stepped at ξ 0.005, F_N 100 kN, V 30 m/s,
+/// wetness 0.5; a's state serialized, deserialized and set into b and into a fresh instance c; then all
+/// three step on with varying inputs and must agree bit for bit with a, in modes 0, 1 and 2, warm start on
+/// and off. Mode 1 needs a table of a's parameters: a has the defaults with the bundled table, b is in
+/// mode 0 with roughness 0.8 (the restore brings the mode, the parameters and the table with it).
+#[test]
+fn a_restored_state_continues_bit_for_bit_in_every_mode_with_and_without_warm_start() {
+    let table = root().join("fmu/resources/table");
+    let table = CString::new(table.to_str().unwrap()).unwrap();
+    let make = |name: &str, mode: i32, roughness: f64, warm: bool| {
+        let f = Fmu::new(name, None);
+        assert_eq!(f.set_int("mode", mode), OK);
+        assert_eq!(f.set_bool("warm_start", warm), OK);
+        if mode == 1 {
+            assert_eq!(
+                unsafe { (fmi().set_string)(f.c, &vr("table_file"), 1, &table.as_ptr()) },
+                OK
+            );
+        } else {
+            assert_eq!(f.set("roughness", roughness), OK);
+            assert_eq!(f.set_int("grid_size", GRID), OK);
+        }
+        unsafe {
+            assert_eq!((fmi().setup_experiment)(f.c, 0, 0.0, 0.0, 0, 0.0), OK);
+            assert_eq!((fmi().enter_initialization_mode)(f.c), OK);
+            assert!((fmi().exit_initialization_mode)(f.c) <= WARNING);
+        }
+        f
+    };
+    let before = [0.005, 0.0, 100e3, 30.0, 0.5];
+    let after = [
+        [0.02, 0.001, 80e3, 20.0, 0.0],
+        [0.01, -0.002, 90e3, 25.0, 0.3],
+        [0.003, 0.0, 110e3, 30.0, 1.0],
+        [0.03, 0.004, 70e3, 15.0, 0.0],
+    ];
+    for mode in [0, 1, 2] {
+        for warm in [true, false] {
+            let case = format!("mode {mode}, warm start {warm}");
+            let a = make("a", mode, 0.2, warm);
+            let b = make("b", if mode == 1 { 0 } else { mode }, 0.8, warm);
+            for f in [&a, &b] {
+                assert!(f.step_at(0.0, before) <= WARNING, "{case}");
+            }
+            let bytes = a.serialized_state();
+            b.restore_from(&bytes);
+            let c = Fmu::new("c", None);
+            c.restore_from(&bytes);
+            assert_eq!(b.outputs(), a.outputs(), "{case}: restored outputs");
+            for (k, inputs) in after.into_iter().enumerate() {
+                let t = 1e-3 * (k + 1) as f64;
+                let want = a.step_at(t, inputs);
+                assert!(want <= WARNING, "{case}, step {k}");
+                for f in [&b, &c] {
+                    assert!(f.step_at(t, inputs) <= WARNING, "{case}, step {k}");
+                    assert_eq!(f.outputs(), a.outputs(), "{case}, step {k}");
+                }
+            }
+            assert_eq!(a.get_int("evaluation_mode"), if mode == 1 { 1 } else { 2 });
+        }
+    }
+}

@@ -30,6 +30,7 @@
 //! this is the slope on the side of the seed direction.
 
 use super::mode::{mode_of, resolve, table_location};
+use super::state::ContactState;
 use super::variables::*;
 use crate::fmi2::derivative::forward_difference;
 use crate::fmi2::ffi::Status;
@@ -240,15 +241,23 @@ impl Warned {
 }
 
 /// The WheelRailFriction model.
+///
+/// What it keeps between calls: the warm start (part of the FMU state, [`ContactState`]), and caches that
+/// are pure functions of the values and that state, so that a restored instance continues bit for bit:
+/// the [`Setup`] (keyed by every value it is built from), the table Jacobian (keyed by the inputs and the
+/// geometry) and the derivative base point (keyed by the values, dropped whenever the warm start it was
+/// solved from is replaced or restored). The one-time warnings logged (`Warned`) belong to the instance's log, not to the
+/// FMU state.
 pub struct WheelRailModel {
     resources: Option<PathBuf>,
     setup: Option<Box<Setup>>,
     warned: Warned,
     /// The state of the last exact solve of `calculate` (parameter `warm_start`): the next exact solve
-    /// starts from it. A cache: not part of the FMU state, forgotten by `fmi2Reset`.
+    /// starts from it. Part of the FMU state, forgotten by `fmi2Reset`.
     warm: Option<WarmStart>,
     /// The exact solver's outputs (at the derivative tolerance) for the values of the last directional
     /// derivative's unperturbed point: further seed directions at the same values need one solve each.
+    /// Solved from `warm`, so dropped whenever `warm` changes.
     derivative_base: Option<(Values, Values)>,
 }
 
@@ -343,6 +352,10 @@ impl WheelRailModel {
         };
         let result = evaluator.evaluate_at(&input(values), &geometry(values), tolerance, &mut warm);
         if warm_start && keep {
+            // an exact solve replaced the warm start the derivative base was solved from
+            if matches!(&result, Ok(Evaluation { by: Evaluated::Exact(_), .. })) {
+                self.derivative_base = None;
+            }
             self.warm = warm;
         }
         let e = result.map_err(|e| fmu_error(e, values))?;
@@ -438,6 +451,8 @@ fn write_outputs(values: &mut Values, e: &Evaluation, o: &TableOutput, mode: i32
 }
 
 impl Model for WheelRailModel {
+    type State = ContactState;
+
     fn info() -> &'static ModelInfo {
         &INFO
     }
@@ -456,6 +471,17 @@ impl Model for WheelRailModel {
         self.setup = None;
         self.warned = Warned::default();
         self.warm = None;
+        self.derivative_base = None;
+    }
+
+    fn state(&self) -> ContactState {
+        ContactState {
+            warm: self.warm.clone(),
+        }
+    }
+
+    fn set_state(&mut self, state: &ContactState) {
+        self.warm = state.warm.clone();
         self.derivative_base = None;
     }
 
