@@ -353,7 +353,13 @@ impl WheelRailModel {
         let result = evaluator.evaluate_at(&input(values), &geometry(values), tolerance, &mut warm);
         if warm_start && keep {
             // an exact solve replaced the warm start the derivative base was solved from
-            if matches!(&result, Ok(Evaluation { by: Evaluated::Exact(_), .. })) {
+            if matches!(
+                &result,
+                Ok(Evaluation {
+                    by: Evaluated::Exact(_),
+                    ..
+                })
+            ) {
                 self.derivative_base = None;
             }
             self.warm = warm;
@@ -578,6 +584,45 @@ mod tests {
         }
         warm.reset();
         assert!(warm.warm.is_none());
+    }
+
+    #[test]
+    fn the_derivative_base_is_dropped_with_the_warm_start_it_was_solved_from() {
+        let log = Logger::new(None, false);
+        let mut v = exact();
+        v.set(GRID_SIZE, Value::Integer(12));
+        v.set(WETNESS, Value::Real(0.5));
+        v.set(CREEPAGE_LONGITUDINAL, Value::Real(0.004));
+        let d = |m: &mut WheelRailModel, v: &Values| {
+            m.directional_derivative(
+                v,
+                &[FORCE_LONGITUDINAL],
+                &[CREEPAGE_LONGITUDINAL],
+                &[1.0],
+                &log,
+            )
+            .unwrap()
+        };
+        let mut m = WheelRailModel::new(None);
+        m.calculate(&mut v, &log).unwrap();
+        let solved_from_the_step = d(&mut m, &v);
+        assert!(m.derivative_base.is_some());
+        // restored to another instance's state: solved from its warm start, as a fresh instance in it
+        let mut other = WheelRailModel::new(None);
+        let mut u = v.clone();
+        u.set(CREEPAGE_LONGITUDINAL, Value::Real(0.02));
+        u.set(NORMAL_FORCE, Value::Real(80e3));
+        other.calculate(&mut u, &log).unwrap();
+        m.set_state(&other.state());
+        let restored = d(&mut m, &v);
+        let mut fresh = WheelRailModel::new(None);
+        fresh.set_state(&other.state());
+        assert_eq!(restored, d(&mut fresh, &v));
+        assert_ne!(restored, solved_from_the_step);
+        // a step's exact solve replaces the warm start: the base goes with it
+        let mut w = v.clone();
+        m.calculate(&mut w, &log).unwrap();
+        assert!(m.warm.is_some() && m.derivative_base.is_none());
     }
 
     fn error_of(change: impl FnOnce(&mut Values)) -> String {

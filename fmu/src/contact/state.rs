@@ -59,3 +59,61 @@ impl ModelState for ContactState {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(bytes: &[u8]) -> Result<ContactState, String> {
+        ContactState::read(&mut Reader::new(bytes))
+    }
+
+    #[test]
+    fn the_warm_start_round_trips_bit_for_bit_and_bad_encodings_are_refused() {
+        let warm = WarmStart {
+            nx: 3,
+            ny: 2,
+            temperature: vec![293.15, 0.1 + 0.2, 400.0 + 1e-13],
+            separation: vec![1e-6 / 3.0, -2e-7, 5e-324],
+            fluid_pressure: vec![0.0, -0.0, 1.5e6],
+            fluid_height: vec![],
+        };
+        for state in [
+            ContactState { warm: None },
+            ContactState { warm: Some(warm) },
+        ] {
+            let mut bytes = Vec::new();
+            state.write(&mut bytes);
+            let back = read(&bytes).unwrap();
+            assert_eq!(back, state);
+            let bits = |s: &ContactState| {
+                s.warm.as_ref().map(|w| {
+                    [&w.temperature, &w.separation, &w.fluid_pressure]
+                        .map(|v| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+                })
+            };
+            assert_eq!(bits(&back), bits(&state));
+            for n in 0..bytes.len() {
+                assert!(read(&bytes[..n]).is_err(), "truncated to {n}");
+            }
+        }
+        let mut bytes = Vec::new();
+        ContactState {
+            warm: Some(WarmStart {
+                nx: 1,
+                ny: 1,
+                temperature: vec![f64::INFINITY],
+                separation: vec![],
+                fluid_pressure: vec![],
+                fluid_height: vec![],
+            }),
+        }
+        .write(&mut bytes);
+        let e = read(&bytes).unwrap_err();
+        assert!(
+            e.contains("non-finite value in the warm start's temperature"),
+            "{e}"
+        );
+        assert!(read(&[2]).unwrap_err().contains("Boolean byte 2"));
+    }
+}

@@ -522,8 +522,9 @@ pub unsafe fn deserialize_fmu_state<M: Model>(
             let bytes = slice(buffer as *const u8, size, "serializedState[]")?;
             let slot = out(state_ptr, "FMUstate")?;
             let info = M::info();
-            let s = Snapshot::<M::State>::from_bytes(bytes, &description::guid(info), info.variables)
-                .map_err(Failure::Rejected)?;
+            let s =
+                Snapshot::<M::State>::from_bytes(bytes, &description::guid(info), info.variables)
+                    .map_err(Failure::Rejected)?;
             store_snapshot(slot, s);
             Ok(Status::Ok)
         })

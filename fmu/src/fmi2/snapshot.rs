@@ -116,10 +116,7 @@ impl<S: ModelState> Snapshot<S> {
         if fnv1a64(body).to_le_bytes() != sum {
             return Err("serialized FMU state is corrupt (checksum mismatch)".into());
         }
-        let mut r = Reader {
-            bytes: body,
-            pos: MAGIC.len(),
-        };
+        let mut r = Reader::new(&body[MAGIC.len()..]);
         let version = u32::from_le_bytes(r.array()?);
         if version != VERSION {
             return Err(format!(
@@ -165,7 +162,7 @@ impl<S: ModelState> Snapshot<S> {
             });
         }
         let model = S::read(&mut r)?;
-        if r.pos != body.len() || !time.is_finite() {
+        if r.pos != r.bytes.len() || !time.is_finite() {
             return Err("serialized FMU state is corrupt (trailing bytes or bad time)".into());
         }
         let values = Values::from_list(table, list).expect("types follow the table");
@@ -185,7 +182,12 @@ pub struct Reader<'a> {
     pos: usize,
 }
 
-impl Reader<'_> {
+impl<'a> Reader<'a> {
+    /// A reader of `bytes` from their start.
+    pub fn new(bytes: &'a [u8]) -> Reader<'a> {
+        Reader { bytes, pos: 0 }
+    }
+
     /// The next u32.
     pub fn u32(&mut self) -> Result<u32, String> {
         Ok(u32::from_le_bytes(self.array()?))
@@ -194,14 +196,19 @@ impl Reader<'_> {
     /// The next `n` f64 values, each finite (else an error naming `what`).
     pub fn finite_f64s(&mut self, n: usize, what: &str) -> Result<Vec<f64>, String> {
         // the length is checked before anything is allocated
-        let bytes = self.take(n.checked_mul(8).ok_or("serialized FMU state is truncated")?)?;
+        let bytes = self.take(
+            n.checked_mul(8)
+                .ok_or("serialized FMU state is truncated")?,
+        )?;
         let xs: Vec<f64> = bytes
             .chunks_exact(8)
             .map(|c| f64::from_le_bytes(c.try_into().expect("chunks of 8")))
             .collect();
         match xs.iter().all(|x| x.is_finite()) {
             true => Ok(xs),
-            false => Err(format!("serialized FMU state has a non-finite value in {what}")),
+            false => Err(format!(
+                "serialized FMU state has a non-finite value in {what}"
+            )),
         }
     }
 
@@ -327,13 +334,21 @@ mod tests {
         let bytes = s.to_bytes("{g}");
         let back = Snapshot::from_bytes(&bytes, "{g}", &TABLE).unwrap();
         assert_eq!(back, s);
-        let bits = |s: &Snapshot<Numbers>| s.model.0.as_ref().map(|xs| xs.iter().map(|x| x.to_bits()).collect::<Vec<_>>());
+        let bits = |s: &Snapshot<Numbers>| {
+            s.model
+                .0
+                .as_ref()
+                .map(|xs| xs.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+        };
         assert_eq!(bits(&back), bits(&s));
         let none = Snapshot {
             model: Numbers(None),
             ..s
         };
-        assert_eq!(Snapshot::from_bytes(&none.to_bytes("{g}"), "{g}", &TABLE).unwrap(), none);
+        assert_eq!(
+            Snapshot::from_bytes(&none.to_bytes("{g}"), "{g}", &TABLE).unwrap(),
+            none
+        );
     }
 
     #[test]
@@ -369,7 +384,10 @@ mod tests {
         for i in 0..bytes.len() {
             let mut b = bytes.clone();
             b[i] ^= 0x40;
-            assert!(Snapshot::<Numbers>::from_bytes(&b, "{g}", &TABLE).is_err(), "byte {i}");
+            assert!(
+                Snapshot::<Numbers>::from_bytes(&b, "{g}", &TABLE).is_err(),
+                "byte {i}"
+            );
         }
         for n in 0..bytes.len() {
             assert!(
