@@ -51,10 +51,14 @@ def test_a_restored_state_continues_bit_for_bit(fmu_files, mode, warm_start):
     a = instance(fmu_files, "a", mode, None if mode == 1 else 0.2, warm_start)
     b = instance(fmu_files, "b", 0 if mode == 1 else mode, 0.8, warm_start)
     assert step(a, vr, 0.0, BEFORE) != step(b, vr, 0.0, BEFORE)
-    blob = a.serializeFMUstate(a.getFMUstate())
-    b.setFMUstate(b.deSerializeFMUstate(blob))
+    state = a.getFMUstate()
+    blob = a.serializeFMUstate(state)
+    a.freeFMUstate(state)
     c = instance(fmu_files, "c")
-    c.setFMUstate(c.deSerializeFMUstate(blob))
+    for fmu in (b, c):
+        restored = fmu.deSerializeFMUstate(blob)
+        fmu.setFMUstate(restored)
+        fmu.freeFMUstate(restored)
     for k, inputs in enumerate(AFTER):
         t = 1e-3 * (k + 1)
         want = step(a, vr, t, inputs)

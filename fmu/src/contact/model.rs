@@ -246,8 +246,8 @@ impl Warned {
 /// are pure functions of the values and that state, so that a restored instance continues bit for bit:
 /// the [`Setup`] (keyed by every value it is built from), the table Jacobian (keyed by the inputs and the
 /// geometry) and the derivative base point (keyed by the values, dropped whenever the warm start it was
-/// solved from is replaced or restored). The one-time warnings logged (`Warned`) belong to the instance's log, not to the
-/// FMU state.
+/// solved from is replaced or restored). The one-time warnings logged (`Warned`) belong to the instance's
+/// log, not to the FMU state.
 pub struct WheelRailModel {
     resources: Option<PathBuf>,
     setup: Option<Box<Setup>>,
