@@ -105,6 +105,13 @@ pub type Jacobian = [[f64; INPUTS]; JACOBIAN_ROWS];
 /// Rows of a [`Jacobian`].
 pub const JACOBIAN_ROWS: usize = 6;
 
+/// Number of nodes a loaded table is checked at ([`Table::check_probes`]).
+pub const PROBES: usize = 3;
+
+/// Largest difference allowed between a stored output at a probe node and the present exact solver, per
+/// output (F_x/F_N, F_y/F_N, M_z/(F_N·c), T_max [K], fluid load fraction, P_f/(F_N·V)).
+pub const PROBE_TOLERANCE: [f64; OUTPUTS] = [1e-6, 1e-6, 1e-6, 1e-3, 1e-6, 1e-6];
+
 /// Values per stored point in memory (f32): the outputs and their slopes along φ (48 bytes: three 4-wide
 /// vectors).
 const ROW: usize = 2 * OUTPUTS;
@@ -263,7 +270,75 @@ impl Table {
 
     /// Loads and verifies the table in directory `dir` (see [`file`] for what is checked).
     pub fn load(dir: &Path) -> Result<Table> {
-        Table::from_files(TableFiles::read(dir)?, Some(dir))
+        let t = Table::from_files(TableFiles::read(dir)?, Some(dir))?;
+        t.check_probes()?;
+        Ok(t)
+    }
+
+    /// The nodes whose stored values [`Table::check_probes`] compares with the exact solver: in
+    /// [`PROBES`] creepage cubes spread over the table (first converged cube from each of PROBES equal
+    /// parts), the creepage node (ξ̂ index 1, η̂ index 1, the φ̂ node just above the middle), which every
+    /// cube solves (coverage windows start at ξ̂ = η̂ = 0 and are symmetric in φ̂).
+    pub fn probe_nodes(&self) -> Vec<usize> {
+        let shape = self.axes.shape();
+        let cubes = file::cube_count(&self.axes);
+        let (i, j, l) = (
+            1.min(shape[XI] - 1),
+            1.min(shape[ETA] - 1),
+            (shape[PHI] / 2 + 1).min(shape[PHI] - 1),
+        );
+        let node = (i * shape[ETA] + j) * shape[PHI] + l;
+        (0..PROBES)
+            .filter_map(|k| {
+                (k * cubes / PROBES..(k + 1) * cubes / PROBES)
+                    .map(|t| node * cubes + t)
+                    .find(|&n| self.converged[n] == 1)
+            })
+            .collect()
+    }
+
+    /// Proof that the present model computed this table (issue 16): the exact solver solves the
+    /// [`Table::probe_nodes`] cold and must reproduce the stored outputs (measured on the default table,
+    /// 200 nodes: within 1.5e-8 for F/F_N, M_z/(F_N·c), the fluid load fraction and P_f/(F_N·V) and 3e-5 K for
+    /// T_max, f32 storage included; the tolerances [`PROBE_TOLERANCE`] leave a factor 60 or more). A table
+    /// computed by a model whose physics has changed since (a different film transport, friction law,
+    /// default, …) is refused with the node and the values, so that it is rebuilt: a few exact solves per
+    /// load (milliseconds each).
+    pub fn check_probes(&self) -> Result<()> {
+        for n in self.probe_nodes() {
+            let q = self.axes.coordinates(n);
+            let (point, e) = self.coordinates.point(&q)?;
+            let mut params = self.sidecar.params.clone();
+            params.geometry.semi_axes = Some([e.a, e.b]);
+            let s = crate::solver::solve(&params, &point)?;
+            let want = build::normalised(&s, &point, e.radius())?;
+            let stored = self.rows[n];
+            let stale = (0..OUTPUTS).find(|&o| {
+                let (a, b) = (f64::from(want[o]), f64::from(stored[VAL[o]]));
+                // a format-1 table stores no frictional power (NaN)
+                let within = (a - b).abs() <= PROBE_TOLERANCE[o];
+                let absent = b.is_nan() && o == OUTPUTS - 1;
+                !(within || absent)
+            });
+            if let Some(o) = stale {
+                return Err(Error::Table {
+                    path: self.location(),
+                    reason: format!(
+                        "was computed by another model (version {} of the sidecar, but the physics differs): \
+                         at its point {point:?} with semi-axes [{:e}, {:e}] m it stores {} = {} where the \
+                         exact solver now gives {} (tolerance {:e}); rebuild the table",
+                        self.sidecar.model_version,
+                        e.a,
+                        e.b,
+                        OUTPUT_INFO[o].name,
+                        stored[VAL[o]],
+                        want[o],
+                        PROBE_TOLERANCE[o]
+                    ),
+                });
+            }
+        }
+        Ok(())
     }
 
     /// The table in `dir`, loaded at most once per process while any user holds it: later calls for the
@@ -1364,6 +1439,45 @@ mod tests {
         // released when the last user drops it, loaded again afterwards
         let c = Table::load_shared(&dir).unwrap();
         assert_eq!(c.axes(), &tiny_axes());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A table whose values another model computed is refused at loading (issue 16): its probe nodes no
+    /// longer match the exact solver. Here the "other model" is the present one with the forces 1e-4·F_N
+    /// larger (as a change of the friction model would make them), the files otherwise consistent.
+    #[test]
+    fn a_table_of_another_model_is_refused_by_its_probe_nodes() {
+        let dir =
+            std::env::temp_dir().join(format!("wheelrail-table-probe-{}", std::process::id()));
+        let mut files = build::build(&coarse_params(), &tiny_axes(), None, &|| ()).unwrap();
+        files.write(&dir.join("good")).unwrap();
+        let good = Table::load(&dir.join("good")).unwrap();
+        assert_eq!(good.probe_nodes().len(), PROBES);
+        let probes = good.probe_nodes();
+        // the probes lie in different cubes and are solved nodes
+        assert!(probes.windows(2).all(|w| w[0] < w[1]));
+        for (k, o) in [(0usize, 1e-4f32), (3, 0.01)] {
+            let mut stale = files.clone();
+            for n in &probes {
+                stale.outputs[k][*n] += o;
+            }
+            let d = dir.join(format!("stale-{k}"));
+            stale.write(&d).unwrap();
+            let e = Table::load(&d).unwrap_err().to_string();
+            assert!(
+                e.contains("computed by another model")
+                    && e.contains(OUTPUT_INFO[k].name)
+                    && e.contains("rebuild"),
+                "{e}"
+            );
+        }
+        // below the tolerance (f32 rounding, solver noise) it loads
+        let mut close = files.clone();
+        for n in &probes {
+            close.outputs[0][*n] += 2e-8;
+        }
+        close.write(&dir.join("close")).unwrap();
+        Table::load(&dir.join("close")).unwrap();
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
