@@ -143,6 +143,14 @@ fn params_file_is_read_and_flags_override_it() {
     assert!((v["traction_coefficient"].as_f64().unwrap() - 0.1).abs() < 0.003);
 }
 
+/// The JSON objects of `--format jsonl` output, one per line.
+fn jsonl(stdout: &[u8]) -> Vec<serde_json::Value> {
+    String::from_utf8_lossy(stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
+
 #[test]
 fn curve_writes_csv_jsonl_and_a_plot() {
     let png = tmp("curve.png");
@@ -171,11 +179,7 @@ fn curve_writes_csv_jsonl_and_a_plot() {
         "jsonl",
     ]);
     assert!(o.status.success());
-    let rows: Vec<serde_json::Value> = String::from_utf8(o.stdout)
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
+    let rows = jsonl(&o.stdout);
     assert_eq!(rows.len(), 3);
     assert_eq!(rows[2]["spin"].as_f64(), Some(1.0));
     // spin alone gives a lateral force
@@ -204,11 +208,7 @@ fn curve_over_the_semi_axis_ratio_follows_kalkers_coefficient() {
         "jsonl",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let rows: Vec<serde_json::Value> = String::from_utf8(o.stdout)
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
+    let rows = jsonl(&o.stdout);
     assert_eq!(rows.len(), 3);
     let get = |r: &serde_json::Value, k: &str| r[k].as_f64().unwrap();
     let area = get(&rows[0], "semi_axis_a") * get(&rows[0], "semi_axis_b");

@@ -130,6 +130,8 @@ struct Cube {
     node: [f64; DIMS],
     /// The parameters with the cube's contact as prescribed semi-axes.
     params: Params,
+    /// The cube's contact ellipse.
+    ellipse: Ellipse,
     /// k_x, k_y, k_φ of the cube's contact.
     scales: [f64; 3],
     /// Solved node range along ξ̂, η̂, φ̂.
@@ -203,6 +205,7 @@ impl Cube {
             index,
             node,
             params: p,
+            ellipse: e,
             scales,
             windows,
         })
@@ -237,12 +240,7 @@ impl Cube {
         let mut out: Vec<Option<std::result::Result<PointResult, String>>> =
             vec![None; nx * ny * np];
         let [wx, wy, wp] = self.windows;
-        let radius = Ellipse {
-            a: self.params.geometry.semi_axes.map_or(0.0, |s| s[0]),
-            b: self.params.geometry.semi_axes.map_or(0.0, |s| s[1]),
-            load_exponent: 0.0,
-        }
-        .radius();
+        let radius = self.ellipse.radius();
         for j in wy.0..=wy.1 {
             for l in wp.0..=wp.1 {
                 let mut warm: Option<WarmStart> = None;
@@ -261,8 +259,8 @@ impl Cube {
                         })
                         .map_err(|e| {
                             format!(
-                                "{point:?} at semi-axes {:?}: {e}",
-                                self.params.geometry.semi_axes
+                                "{point:?} at semi-axes [{:e}, {:e}] m: {e}",
+                                self.ellipse.a, self.ellipse.b
                             )
                         }),
                     );

@@ -65,6 +65,21 @@ pub struct Corners {
     pub dw: [[f64; CORNERS]; LINEAR_DIMS],
 }
 
+/// The dimensions among `dims` whose axes have more than one point (a next node to step to), first, and
+/// their number.
+#[inline(always)]
+fn stepping<const N: usize>(dims: [usize; N], f: &[Fraction; LINEAR_DIMS]) -> ([usize; N], usize) {
+    let mut out = [0usize; N];
+    let mut k = 0;
+    for d in dims {
+        if f[d].inv_h > 0.0 {
+            out[k] = d;
+            k += 1;
+        }
+    }
+    (out, k)
+}
+
 impl Corners {
     /// The stencil of the fractions `f` of the linear coordinates (simplex ties keep the dimension order,
     /// so the result is deterministic).
@@ -72,14 +87,7 @@ impl Corners {
     pub fn of(f: &[Fraction; LINEAR_DIMS]) -> Corners {
         const S: usize = SIMPLICIAL.len() + 1;
         // the simplex over the axes with more than one point, by descending fraction
-        let mut order = [0usize; SIMPLICIAL.len()];
-        let mut k_s = 0;
-        for &d in &SIMPLICIAL {
-            if f[d].inv_h > 0.0 {
-                order[k_s] = d;
-                k_s += 1;
-            }
-        }
+        let (mut order, k_s) = stepping(SIMPLICIAL, f);
         for i in 1..k_s {
             let mut j = i;
             while j > 0 && f[order[j - 1]].t < f[order[j]].t {
@@ -101,14 +109,7 @@ impl Corners {
             steps_s[k + 1][d] = 1;
         }
         // the multilinear axes with more than one point
-        let mut multi = [0usize; MULTILINEAR.len()];
-        let mut k_m = 0;
-        for &d in &MULTILINEAR {
-            if f[d].inv_h > 0.0 {
-                multi[k_m] = d;
-                k_m += 1;
-            }
-        }
+        let (multi, k_m) = stepping(MULTILINEAR, f);
         let mut c = Corners {
             n: (1 << k_m) * (k_s + 1),
             start: std::array::from_fn(|d| f[d].start),
