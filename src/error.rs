@@ -65,6 +65,21 @@ pub enum Error {
         /// Fingerprint of the parameters asked for.
         given: String,
     },
+    /// A contact outside the geometry axes of a lookup table (mode table-only).
+    #[error(
+        "table {path}: the contact (a/b = {ratio}, p_ref = {reference_pressure} Pa) lies outside the contact \
+         geometries it covers ({covered})"
+    )]
+    TableGeometry {
+        /// The table directory ("<memory>" for a table built in memory).
+        path: String,
+        /// a/b of the contact [-].
+        ratio: f64,
+        /// p_ref of the contact [Pa].
+        reference_pressure: f64,
+        /// The ranges the table covers.
+        covered: String,
+    },
     /// An evaluation mode that evaluates by lookup table, given none.
     #[error("evaluation mode {mode} needs a lookup table")]
     NoTable {

@@ -964,3 +964,195 @@ fn directional_derivatives_match_differences_and_kalkers_linear_stiffness() {
     let mut s = 0;
     assert_eq!(unsafe { (fmi().get_status)(f.c, 1, &mut s) }, DISCARD);
 }
+
+/// The Real outputs compared bit for bit after a restored state.
+const REAL_OUTPUTS: [&str; 9] = [
+    "force_longitudinal",
+    "force_lateral",
+    "spin_moment",
+    "traction_coefficient",
+    "max_temperature",
+    "fluid_load_fraction",
+    "contact_semi_axis_a",
+    "contact_semi_axis_b",
+    "peak_pressure",
+];
+
+impl Fmu {
+    /// Sets ξ, η, F_N, V, w (no spin) and steps.
+    fn step_at(&self, t: f64, [xi, eta, load, speed, wetness]: [f64; 5]) -> c_int {
+        for (name, x) in [
+            ("creepage_longitudinal", xi),
+            ("creepage_lateral", eta),
+            ("normal_force", load),
+            ("rolling_speed", speed),
+            ("wetness", wetness),
+        ] {
+            assert_eq!(self.set(name, x), OK);
+        }
+        self.step(t)
+    }
+
+    /// Every Real output and `evaluation_mode`.
+    fn outputs(&self) -> ([f64; 9], i32) {
+        (
+            REAL_OUTPUTS.map(|n| self.get(n)),
+            self.get_int("evaluation_mode"),
+        )
+    }
+
+    /// The serialized bytes of the current FMU state.
+    fn serialized_state(&self) -> Vec<c_char> {
+        let mut state: *mut c_void = null_mut();
+        let mut size = 0usize;
+        let mut bytes;
+        unsafe {
+            assert_eq!((fmi().get_fmu_state)(self.c, &mut state), OK);
+            assert_eq!((fmi().serialized_size)(self.c, state, &mut size), OK);
+            bytes = vec![0 as c_char; size];
+            assert_eq!(
+                (fmi().serialize)(self.c, state, bytes.as_mut_ptr(), size),
+                OK
+            );
+            assert_eq!((fmi().free_fmu_state)(self.c, &mut state), OK);
+        }
+        bytes
+    }
+
+    /// Deserializes `bytes` and sets the state into this instance.
+    fn restore_from(&self, bytes: &[c_char]) {
+        let mut state: *mut c_void = null_mut();
+        unsafe {
+            assert_eq!(
+                (fmi().deserialize)(self.c, bytes.as_ptr(), bytes.len(), &mut state),
+                OK,
+                "{}",
+                self.last_error()
+            );
+            assert_eq!((fmi().set_fmu_state)(self.c, state), OK);
+            assert_eq!((fmi().free_fmu_state)(self.c, &mut state), OK);
+        }
+    }
+}
+
+/// Issue 16's scenario: instances a and b (other parameters) stepped at ξ 0.005, F_N 100 kN, V 30 m/s,
+/// wetness 0.5; a's state set into b (the snapshot itself) and, serialized and deserialized, into d (other
+/// parameters, as b) and into a fresh instance c; then all continue with varying inputs and must agree bit
+/// for bit with a, in modes 0, 1 and 2, warm start on and off; and a, rolled back to its state, repeats
+/// its own steps bit for bit. Mode 1 needs a table of a's parameters: a has the defaults with the bundled
+/// table, b and d are in mode 0 with roughness 0.8 (the restore brings mode, parameters and table along).
+#[test]
+fn a_restored_state_continues_bit_for_bit_in_every_mode_with_and_without_warm_start() {
+    let table = root().join("fmu/resources/table");
+    let table = CString::new(table.to_str().unwrap()).unwrap();
+    let make = |name: &str, mode: i32, roughness: f64, warm: bool| {
+        let f = Fmu::new(name, None);
+        assert_eq!(f.set_int("mode", mode), OK);
+        assert_eq!(f.set_bool("warm_start", warm), OK);
+        if mode == 1 {
+            assert_eq!(
+                unsafe { (fmi().set_string)(f.c, &vr("table_file"), 1, &table.as_ptr()) },
+                OK
+            );
+        } else {
+            assert_eq!(f.set("roughness", roughness), OK);
+            assert_eq!(f.set_int("grid_size", GRID), OK);
+        }
+        unsafe {
+            assert_eq!((fmi().setup_experiment)(f.c, 0, 0.0, 0.0, 0, 0.0), OK);
+            assert_eq!((fmi().enter_initialization_mode)(f.c), OK);
+            assert!((fmi().exit_initialization_mode)(f.c) <= WARNING);
+        }
+        f
+    };
+    let before = [0.005, 0.0, 100e3, 30.0, 0.5];
+    let after = [
+        [0.02, 0.001, 80e3, 20.0, 0.0],
+        [0.01, -0.002, 90e3, 25.0, 0.3],
+        [0.003, 0.0, 110e3, 30.0, 1.0],
+        [0.03, 0.004, 70e3, 15.0, 0.0],
+    ];
+    for mode in [0, 1, 2] {
+        for warm in [true, false] {
+            let case = format!("mode {mode}, warm start {warm}");
+            let other_mode = if mode == 1 { 0 } else { mode };
+            let a = make("a", mode, 0.2, warm);
+            let b = make("b", other_mode, 0.8, warm);
+            let d = make("d", other_mode, 0.8, warm);
+            for f in [&a, &b, &d] {
+                assert!(f.step_at(0.0, before) <= WARNING, "{case}");
+            }
+            assert_ne!(b.outputs(), a.outputs(), "{case}");
+            let mut state: *mut c_void = null_mut();
+            assert_eq!(unsafe { (fmi().get_fmu_state)(a.c, &mut state) }, OK);
+            assert_eq!(unsafe { (fmi().set_fmu_state)(b.c, state) }, OK);
+            let bytes = a.serialized_state();
+            d.restore_from(&bytes);
+            let c = Fmu::new("c", None);
+            c.restore_from(&bytes);
+            let mut first = Vec::new();
+            for (k, inputs) in after.into_iter().enumerate() {
+                let t = 1e-3 * (k + 1) as f64;
+                assert!(a.step_at(t, inputs) <= WARNING, "{case}, step {k}");
+                first.push(a.outputs());
+                for (name, f) in [("b", &b), ("c", &c), ("d", &d)] {
+                    assert!(f.step_at(t, inputs) <= WARNING, "{case}, step {k}, {name}");
+                    assert_eq!(f.outputs(), a.outputs(), "{case}, step {k}, {name}");
+                }
+            }
+            assert_eq!(a.get_int("evaluation_mode"), if mode == 1 { 1 } else { 2 });
+            // a rolled back to its own state repeats its steps
+            assert_eq!(unsafe { (fmi().set_fmu_state)(a.c, state) }, OK);
+            for (k, inputs) in after.into_iter().enumerate() {
+                assert!(a.step_at(1e-3 * (k + 1) as f64, inputs) <= WARNING);
+                assert_eq!(a.outputs(), first[k], "{case}, repeated step {k}");
+            }
+            assert_eq!(unsafe { (fmi().free_fmu_state)(a.c, &mut state) }, OK);
+        }
+    }
+}
+
+/// The derivative's unperturbed point is solved from the warm start: back at the same values after other
+/// steps (another warm start), the derivative is that of a fresh instance restored to this state, not a
+/// reuse of the one solved from the earlier warm start.
+#[test]
+fn derivatives_after_a_restore_or_a_return_to_the_same_values_are_those_of_the_state() {
+    let f = Fmu::new("derivatives", None);
+    assert_eq!(f.set_int("mode", 2), OK);
+    f.init();
+    let at = [0.004, 0.0, 100e3, 30.0, 0.5];
+    let (unknown, known) = ([vr("force_longitudinal")], [vr("creepage_longitudinal")]);
+    let derivative = |f: &Fmu| {
+        let mut d = [f64::NAN];
+        assert_eq!(f.derivative(&unknown, &known, &[1.0], &mut d), OK);
+        d[0]
+    };
+    assert_eq!(f.step_at(0.0, at), OK);
+    let first = derivative(&f);
+    assert_eq!(f.step_at(1e-3, [0.02, 0.002, 80e3, 20.0, 0.0]), OK);
+    assert_eq!(f.step_at(2e-3, at), OK);
+    let again = derivative(&f);
+    let g = Fmu::new("fresh", None);
+    let bytes = f.serialized_state();
+    g.restore_from(&bytes);
+    assert_eq!(derivative(&g), again);
+    // bit-flipped in the warm start, or truncated: refused, with the reason logged
+    let mut flipped = bytes.clone();
+    flipped[bytes.len() - 100] ^= 1;
+    for (bad, why) in [
+        (&flipped[..], "corrupt"),
+        (&bytes[..bytes.len() / 2], "corrupt"),
+    ] {
+        let mut state: *mut c_void = null_mut();
+        let status = unsafe { (fmi().deserialize)(g.c, bad.as_ptr(), bad.len(), &mut state) };
+        assert_eq!(status, ERROR);
+        assert!(
+            state.is_null() && g.last_error().contains(why),
+            "{}",
+            g.last_error()
+        );
+    }
+    assert_eq!(g.outputs(), f.outputs());
+    // the warm starts differ, so the solves do (in the last digits)
+    assert_ne!(again, first);
+}

@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """Report of `make bench`: every criterion result with its ratio to the Polach formula, the scaling exponent
-of the exact solver with the grid, and the memory per FMU instance (standard library only).
+of the exact solver with the grid, the memory per FMU instance and the MBS trace through the FMU (time per
+step, table and exact shares, force errors against the exact solver; standard library only).
 
-Reads target/criterion/**/new/{benchmark,estimates}.json and target/bench/memory.json; prints a table and
-writes target/bench/report.md.
+Reads target/criterion/**/new/{benchmark,estimates}.json (a benchmark with a throughput of N elements per
+iteration is shown per element), target/bench/memory.json and target/bench/mbs_trace.json; prints a table
+and writes target/bench/report.md.
 """
 
 import json
@@ -21,13 +23,17 @@ POLACH_FORMULA = "point/polach_formula_only_1pct_30mps"
 
 
 def results():
-    """{full_id: mean time [ns]} of every criterion benchmark that has run."""
-    found = {}
+    """{full_id: mean time [ns] per iteration, or per element where the benchmark has a throughput of N
+    elements}, {full_id: N} of those with one, of every criterion benchmark that has run."""
+    found, elements = {}, {}
     for bench in CRITERION.glob("**/new/benchmark.json"):
         meta = json.loads(bench.read_text())
         est = json.loads((bench.parent / "estimates.json").read_text())
-        found[meta["full_id"]] = est["mean"]["point_estimate"]
-    return found
+        n = (meta.get("throughput") or {}).get("Elements")
+        found[meta["full_id"]] = est["mean"]["point_estimate"] / (n or 1)
+        if n:
+            elements[meta["full_id"]] = n
+    return found, elements
 
 
 def human(ns):
@@ -51,8 +57,38 @@ def scaling(found):
     return slope, pts
 
 
+def trace_section(t, found):
+    """The MBS trace through the FMU (fmu/benches/trace.rs): per mode the table and exact shares, the time
+    per step and the force errors against mode 2 (exact)."""
+    tr = t["trace"]
+    ran = {c["id"]: c["status"] for c in t["criterion"]}
+    lines = [f"MBS trace through the FMU ({tr['steps']:,} steps of {tr['step_size'] * 1e3:g} ms from "
+             f"{pathlib.Path(tr['path']).name}, one thread, bundled table; time per step = setting the inputs "
+             f"and fmi2DoStep, timer overhead ≈ {t['timer_overhead_ns']:.0f} ns included; load average "
+             f"{t['load_average_start']} at the start, {t['load_average_end']} at the end):", "",
+             "| mode | evaluated | by table | by exact | refused | passes | time/step mean | p99 | max "
+             "| criterion mean/step |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+    for m in t["modes"]:
+        s = m["time_per_step_ns"]
+        key = f"mbs_trace/{m['name']}"
+        crit = human(found[key]) if ran.get(key) == "run" and key in found else ran.get(key, "–")
+        lines.append(f"| {m['mode']} {m['name']} | {m['evaluated']:,} | {m['by_table']:,} | {m['by_exact']:,} | "
+                     f"{m['refused']:,} | {m['timing_passes']} | {human(s['mean'])} | {human(s['p99'])} | "
+                     f"{human(s['max'])} | {crit} |")
+    lines += ["", "Force error against mode 2 (exact) at every evaluated step, relative to F_N (mean / p99 / max):",
+              "", "| mode | steps | count | abs(ΔF_x)/F_N | abs(ΔF_y)/F_N | abs(ΔF)/F_N |", "|---|---|---:|---|---|---|"]
+    for m in t["modes"]:
+        for which, e in m.get("error_vs_exact", {}).items():
+            if e["force"]["count"] == 0:
+                continue
+            cells = " | ".join(f"{e[k]['mean']:.2e} / {e[k]['p99']:.2e} / {e[k]['max']:.2e}"
+                               for k in ("force_x", "force_y", "force"))
+            lines.append(f"| {m['mode']} {m['name']} | {which.replace('_', ' ')} | {e['force']['count']:,} | {cells} |")
+    return lines
+
+
 def main():
-    found = results()
+    found, elements = results()
     if not found:
         sys.exit("no criterion results under target/criterion: run `make bench` first")
     def ratio(key, ref):
@@ -64,7 +100,8 @@ def main():
     lines = ["| benchmark | mean time | ratio to Polach via solve | ratio to the bare Polach formula |",
              "|---|---:|---:|---:|"]
     for key in sorted(found):
-        lines.append(f"| {key} | {human(found[key])} | {ratio(key, POLACH)} | {ratio(key, POLACH_FORMULA)} |")
+        label = f"{key} (per step, {elements[key]:,} per iteration)" if key in elements else key
+        lines.append(f"| {label} | {human(found[key])} | {ratio(key, POLACH)} | {ratio(key, POLACH_FORMULA)} |")
     slope, pts = scaling(found)
     if slope is not None:
         lines += ["", f"Exact dry point against the grid: time ∝ cells^{slope:.2f} "
@@ -75,6 +112,9 @@ def main():
         lines += ["", "| FMU instance | bytes kept after a step | peak working bytes in a step |", "|---|---:|---:|"]
         for row in m["instances"]:
             lines.append(f"| {row['case']} | {row['kept_bytes']:,.0f} | {row['step_peak_bytes']:,} |")
+    trace = OUT / "mbs_trace.json"
+    if trace.exists():
+        lines += [""] + trace_section(json.loads(trace.read_text()), found)
     text = "\n".join(lines) + "\n"
     OUT.mkdir(parents=True, exist_ok=True)
     (OUT / "report.md").write_text(text)

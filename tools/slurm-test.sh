@@ -4,7 +4,7 @@
 # Installs slurmctld, slurmd, slurm-client and munge from the distribution's packages when missing (Debian;
 # needs root), writes a temporary slurm.conf (one node: this host with all its cores), starts munged,
 # slurmctld and slurmd in the foreground as background processes of this script, submits a small table build
-# (288 points, 6 x 6 grid) as an array job of 3 shards with `sbatch --wait`, then the merge job, and compares
+# (1152 points, 6 x 6 grid) as an array job of 3 shards with `sbatch --wait`, then the merge job, and compares
 # the merged table byte for byte with the same table built in one process (every .npy with cmp, table.json
 # without its `build` record of date, duration and threads). A trap stops every daemon by its PID on any exit
 # and removes the temporary directory; nothing is left running.

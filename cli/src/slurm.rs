@@ -146,7 +146,7 @@ impl SlurmJob {
         let build = format!(
             "#!/bin/bash\n\
              # Sharded wheelrail table build, written by `wheelrail table slurm`: array task K of {n} builds shard\n\
-             # K/{n} (whole xi lines) into $OUT/{SHARDS_DIR}/K. Submit with {SUBMIT_SCRIPT}, or `sbatch` this file and\n\
+             # K/{n} (whole creepage cubes) into $OUT/{SHARDS_DIR}/K. Submit with {SUBMIT_SCRIPT}, or `sbatch` this file and\n\
              # then {MERGE_SCRIPT}. sbatch options on the command line override the #SBATCH lines.\n\
              #SBATCH --job-name=wheelrail-table\n\
              #SBATCH --array=1-{n}\n\

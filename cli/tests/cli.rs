@@ -143,6 +143,14 @@ fn params_file_is_read_and_flags_override_it() {
     assert!((v["traction_coefficient"].as_f64().unwrap() - 0.1).abs() < 0.003);
 }
 
+/// The JSON objects of `--format jsonl` output, one per line.
+fn jsonl(stdout: &[u8]) -> Vec<serde_json::Value> {
+    String::from_utf8_lossy(stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
+
 #[test]
 fn curve_writes_csv_jsonl_and_a_plot() {
     let png = tmp("curve.png");
@@ -171,15 +179,65 @@ fn curve_writes_csv_jsonl_and_a_plot() {
         "jsonl",
     ]);
     assert!(o.status.success());
-    let rows: Vec<serde_json::Value> = String::from_utf8(o.stdout)
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
+    let rows = jsonl(&o.stdout);
     assert_eq!(rows.len(), 3);
     assert_eq!(rows[2]["spin"].as_f64(), Some(1.0));
     // spin alone gives a lateral force
     assert!(rows[2]["force_y"].as_f64().unwrap().abs() > 100.0);
+}
+
+/// `curve --over semi-axis-ratio` sweeps the ellipse's shape at the contact area of the given geometry: in
+/// the linear range F_x/F_N follows Kalker's C11(a/b) (an independent table, docs/model.md §6).
+#[test]
+fn curve_over_the_semi_axis_ratio_follows_kalkers_coefficient() {
+    let o = wheelrail(&[
+        "curve",
+        "--over",
+        "semi-axis-ratio",
+        "--min",
+        "0.3",
+        "--max",
+        "3",
+        "--points",
+        "3",
+        "--creepage-x",
+        "1e-6",
+        "--grid",
+        "16,16",
+        "--format",
+        "jsonl",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows = jsonl(&o.stdout);
+    assert_eq!(rows.len(), 3);
+    let get = |r: &serde_json::Value, k: &str| r[k].as_f64().unwrap();
+    let area = get(&rows[0], "semi_axis_a") * get(&rows[0], "semi_axis_b");
+    let mut slope = Vec::new();
+    for (r, want) in rows.iter().zip([0.3, 1.65, 3.0]) {
+        let (a, b) = (get(r, "semi_axis_a"), get(r, "semi_axis_b"));
+        assert!((a / b / want - 1.0).abs() < 1e-12 && (a * b / area - 1.0).abs() < 1e-12);
+        assert!((get(r, "semi_axis_ratio") - want).abs() < 1e-12);
+        let c11 = wheelrail::tangential::kalker_coefficients(a, b, 0.28)
+            .unwrap()
+            .c11;
+        slope.push(-get(r, "force_x") / c11);
+    }
+    // F_x = −G·a·b·C11·ξ: the same G·a·b·ξ for all three shapes
+    for s in &slope[1..] {
+        assert!((s / slope[0] - 1.0).abs() < 0.03, "{slope:?}");
+    }
+    // and a ratio needs --min > 0
+    let o = wheelrail(&[
+        "curve",
+        "--over",
+        "semi-axis-ratio",
+        "--min",
+        "0",
+        "--max",
+        "2",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("semi_axis_ratio"));
 }
 
 #[test]

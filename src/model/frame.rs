@@ -14,7 +14,7 @@
 
 use crate::error::Result;
 use crate::params::OperatingPoint;
-use crate::table::{DIMS, Jacobian};
+use crate::table::{INPUTS, Jacobian};
 
 /// The caller's operating point in the solved frame.
 #[derive(Debug, Clone, Copy)]
@@ -25,7 +25,7 @@ pub(super) struct Solved {
     turn: f64,
     /// ∂point/∂input per coordinate (ξ, η, φ, F_N, V, w), a diagonal: the turn for ξ and η, the sign of V
     /// unless raised to the minimum speed, 0 for a clamped wetness.
-    chain: [f64; DIMS],
+    chain: [f64; INPUTS],
 }
 
 impl Solved {

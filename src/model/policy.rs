@@ -9,17 +9,17 @@
 //!   a [`Notice`]).
 //! - **Geometry** ([`Evaluator::evaluate_at`]): each evaluation may give its own contact geometry (gap
 //!   curvatures or prescribed semi-axes, docs/model.md §2) instead of the model's, without rebuilding the
-//!   model: it is validated ([`Geometry::validate`]) unless it is the model's, and the table evaluates only
-//!   points of the geometry it was built for.
-//! - **Mode** ([`Mode`]): auto evaluates by the table where it was built for the model's parameters and
-//!   the evaluation's geometry and the point lies inside its ranges, else by the exact solver (a
-//!   [`Notice::FellBack`] with the reason); table-only clamps points to the table's ranges
-//!   ([`Notice::Clamped`]) and refuses other parameters or another geometry
-//!   ([`crate::Error::TableParameters`]); exact-only always solves.
+//!   model: it is validated ([`Geometry::validate`]) unless it is the model's; the table evaluates the
+//!   contacts its geometry axes (a/b, p_ref) cover.
+//! - **Mode** ([`Mode`]): auto evaluates by the table where it was built for the model's parameters
+//!   (geometry aside), covers the evaluation's contact and the point lies inside its ranges, else by the
+//!   exact solver (a [`Notice::FellBack`] with the reason); table-only clamps points to the table's ranges
+//!   ([`Notice::Clamped`]) and refuses other parameters ([`crate::Error::TableParameters`]) or a contact
+//!   outside its geometry axes ([`crate::Error::TableGeometry`]); exact-only always solves.
 //! - **Normal contact:** every evaluation states its contact ellipse and peak pressure ([`Patch`]): the
-//!   exact solver's, by table the same Hertz solution (docs/model.md §2) from the table geometry's shape,
-//!   made once. The frictional power (docs/model.md §6.3, §7.4) only the exact solver gives: the table does not
-//!   store it, and the creep power F·V·creepage is not it (see [`Evaluation::frictional_power`]).
+//!   exact solver's, by table the same Hertz solution (docs/model.md §2) of the evaluation's geometry (for
+//!   the model's own geometry from its shape, made once). The frictional power (docs/model.md §6.3, §7.4)
+//!   comes from the exact solver or a table of format version 2 (see [`Evaluation::frictional_power`]).
 //! - **Derivatives:** by table, the exact derivatives of the interpolant chained through the frame turn,
 //!   the minimum speed and the wetness clamp ([`Evaluator::table_jacobian`]). Elsewhere the caller
 //!   differences [`Evaluator::evaluate`] with the solver tolerance tightened to [`DERIVATIVE_TOLERANCE`],
@@ -31,7 +31,7 @@ use crate::error::{Error, Result, check_finite, check_positive};
 use crate::params::{Geometry, OperatingPoint};
 use crate::solver::{ContactShape, GlobalResults, SolverReport, WarmStart};
 
-use crate::table::{Jacobian, Table, TableOutput, other_parameters};
+use crate::table::{Ellipse, Jacobian, Table, TableOutput, other_parameters};
 use std::sync::Arc;
 
 /// Normal force at or below which the wheel counts as lifted [N]: the library's smallest admissible load.
@@ -97,8 +97,8 @@ pub enum Fallback {
     OtherParameters,
     /// The point lies outside the table's ranges.
     OutsideRanges,
-    /// The evaluation's contact geometry is not the one the table was built for (the other parameters
-    /// are).
+    /// The evaluation's contact lies outside the table's geometry axes (a/b, p_ref); the table was built
+    /// for the other parameters.
     OtherGeometry,
 }
 
@@ -206,14 +206,13 @@ impl Evaluation {
 
     /// The frictional power dissipated in the contact, Σ|τ|·|s| over the slipping cells [W]
     /// (docs/model.md §6.3, §7.4; the work-rate basis of Tγ wear indices): the exact solver's, 0 for a lifted
-    /// wheel, None by table. The table does not store it, and the creep power −(F_x·ξ + F_y·η + M_z·φ)·V
-    /// that its outputs give is not it in general (it also contains the elastic energy released at the
-    /// trailing edge), so no estimate is made.
+    /// wheel, by table the interpolated one — None from a table of format version 1, which does not store
+    /// it (the creep power −(F_x·ξ + F_y·η + M_z·φ)·V that its outputs give is not it in general: it also
+    /// contains the elastic energy released at the trailing edge, so no estimate is made).
     pub fn frictional_power(&self) -> Option<f64> {
         match &self.by {
             Evaluated::Exact(e) => Some(e.global.frictional_power),
-            Evaluated::Lifted(_) => Some(0.0),
-            Evaluated::Table(_) => None,
+            Evaluated::Table(o) | Evaluated::Lifted(o) => o.frictional_power,
         }
     }
 }
@@ -222,8 +221,8 @@ impl Evaluation {
 enum Route<'a> {
     /// By the exact solver.
     Exact,
-    /// By this table (possibly clamped), whose geometry has this shape.
-    Table(&'a Table, &'a ContactShape),
+    /// By this table (possibly clamped), with the point's contact ellipse and its peak pressure [Pa].
+    Table(&'a Table, Ellipse, f64),
 }
 
 /// The point of a caller in the solved frame, its route and the notices so far (None: wheel lifted).
@@ -236,10 +235,12 @@ pub struct Evaluator {
     mode: Mode,
     /// The table the mode uses (None in mode exact-only).
     table: Option<Arc<Table>>,
-    /// Some when the table was built for the model's parameters, geometry aside (kept: comparing them is
-    /// a large part of a table evaluation's cost): the shape of the table's geometry, which gives the
-    /// normal contact of a table evaluation without solving for the eccentricity every time.
-    table_shape: Option<ContactShape>,
+    /// Whether the table was built for the model's parameters, geometry aside (kept: comparing them is a
+    /// large part of a table evaluation's cost).
+    table_params: bool,
+    /// The shape of the model's geometry, which gives the normal contact of a table evaluation at any load
+    /// without solving for the eccentricity every time.
+    model_shape: ContactShape,
     policy: Policy,
 }
 
@@ -258,23 +259,18 @@ impl Evaluator {
         if mode == Mode::TableOnly && table.is_none() {
             return Err(Error::NoTable { mode });
         }
-        let matches_but_geometry = table.as_ref().is_some_and(|t| {
+        let table_params = table.as_ref().is_some_and(|t| {
             let mut params = model.params().clone();
             params.geometry = t.params().geometry.clone();
             t.matches(&params)
         });
-        let table_shape = match table.as_deref() {
-            Some(t) if matches_but_geometry => Some(ContactShape::of(
-                &t.params().geometry,
-                &t.params().material,
-            )?),
-            _ => None,
-        };
+        let model_shape = ContactShape::of(&model.params().geometry, &model.params().material)?;
         Ok(Evaluator {
             model,
             mode,
             table,
-            table_shape,
+            table_params,
+            model_shape,
             policy,
         })
     }
@@ -299,14 +295,40 @@ impl Evaluator {
         &self.policy
     }
 
-    /// Whether there is a table and it was built for the model's parameters (its geometry included).
+    /// Whether there is a table, built for the model's parameters (geometry aside), that covers the
+    /// model's own contact geometry (at the reference load of its p_ref).
     pub fn matches(&self) -> bool {
-        self.table_shape.is_some() && self.table_geometry() == Some(&self.model.params().geometry)
+        self.table.as_deref().is_some_and(|t| {
+            self.table_params
+                && self
+                    .contact(
+                        &self.model.params().geometry,
+                        crate::table::axes::REFERENCE_FORCE,
+                    )
+                    .is_ok_and(|(e, _)| t.covers(&e, crate::table::axes::REFERENCE_FORCE))
+        })
     }
 
-    /// The geometry the table was built for (None without a table).
-    pub fn table_geometry(&self) -> Option<&Geometry> {
-        self.table.as_deref().map(|t| &t.params().geometry)
+    /// The contact ellipse of `geometry` at normal force `force` [N] (Hertz, docs/model.md §2, or the
+    /// prescribed semi-axes), with the load exponent of its kind, and its peak pressure p0 [Pa] (bit for
+    /// bit the exact solver's).
+    fn contact(&self, geometry: &Geometry, force: f64) -> Result<(Ellipse, f64)> {
+        let shape = if *geometry == self.model.params().geometry {
+            self.model_shape
+        } else {
+            ContactShape::of(geometry, &self.model.params().material)?
+        };
+        let h = shape.contact(force)?;
+        let e = Ellipse {
+            a: h.a,
+            b: h.b,
+            load_exponent: if geometry.semi_axes.is_some() {
+                0.0
+            } else {
+                Ellipse::HERTZ
+            },
+        };
+        Ok((e, h.p0))
     }
 
     /// Which way a point of the solved frame with `geometry` goes, and the notice about it.
@@ -318,26 +340,35 @@ impl Evaluator {
         let Some(table) = self.table.as_deref() else {
             return Ok((Route::Exact, None));
         };
-        let same_geometry = *geometry == table.params().geometry;
-        let inside = table.in_range(point);
-        match (self.mode, &self.table_shape) {
-            (Mode::TableOnly, Some(shape)) if same_geometry => Ok((
-                Route::Table(table, shape),
+        if !self.table_params {
+            return match self.mode {
+                Mode::TableOnly => Err(other_parameters(
+                    table,
+                    self.model.with(geometry, None).params(),
+                )),
+                _ => Ok((
+                    Route::Exact,
+                    Some(Notice::FellBack(Fallback::OtherParameters)),
+                )),
+            };
+        }
+        let (e, p0) = self.contact(geometry, point.normal_force)?;
+        if !table.covers(&e, point.normal_force) {
+            return match self.mode {
+                Mode::TableOnly => Err(table.outside_geometry(&e, point.normal_force)),
+                _ => Ok((
+                    Route::Exact,
+                    Some(Notice::FellBack(Fallback::OtherGeometry)),
+                )),
+            };
+        }
+        let inside = table.in_range(point, &e);
+        match self.mode {
+            Mode::TableOnly => Ok((
+                Route::Table(table, e, p0),
                 (!inside).then_some(Notice::Clamped),
             )),
-            (Mode::TableOnly, _) => Err(other_parameters(
-                table,
-                self.model.with(geometry, None).params(),
-            )),
-            (_, None) => Ok((
-                Route::Exact,
-                Some(Notice::FellBack(Fallback::OtherParameters)),
-            )),
-            _ if !same_geometry => Ok((
-                Route::Exact,
-                Some(Notice::FellBack(Fallback::OtherGeometry)),
-            )),
-            (_, Some(shape)) if inside => Ok((Route::Table(table, shape), None)),
+            _ if inside => Ok((Route::Table(table, e, p0), None)),
             _ => Ok((
                 Route::Exact,
                 Some(Notice::FellBack(Fallback::OutsideRanges)),
@@ -397,14 +428,13 @@ impl Evaluator {
             return Ok(self.lifted());
         };
         let (mut by, patch) = match route {
-            Route::Table(t, shape) => {
-                let hertz = shape.contact(solved.point.normal_force)?;
+            Route::Table(t, e, p0) => {
                 let patch = Patch {
-                    semi_axis_a: hertz.a,
-                    semi_axis_b: hertz.b,
-                    peak_pressure: hertz.p0,
+                    semi_axis_a: e.a,
+                    semi_axis_b: e.b,
+                    peak_pressure: p0,
                 };
-                (Evaluated::Table(t.evaluate(&solved.point)?), patch)
+                (Evaluated::Table(t.evaluate(&solved.point, &e)?), patch)
             }
             Route::Exact => {
                 let e = self.exact(&solved.point, geometry, tolerance, warm)?;
@@ -435,8 +465,8 @@ impl Evaluator {
         self.table_jacobian_at(input, &self.model.params().geometry)
     }
 
-    /// [`Evaluator::table_jacobian`] at the contact `geometry`: None unless the table evaluates the point
-    /// (a table covers one geometry, so it gives no derivative with respect to the geometry).
+    /// [`Evaluator::table_jacobian`] at the contact `geometry` (held fixed: curvatures or prescribed
+    /// semi-axes): None unless the table evaluates the point.
     pub fn table_jacobian_at(
         &self,
         input: &OperatingPoint,
@@ -445,10 +475,10 @@ impl Evaluator {
         let Some((solved, route, notices)) = self.prepare(input, geometry)? else {
             return Ok((None, Notices::default()));
         };
-        let Route::Table(table, _) = route else {
+        let Route::Table(table, e, _) = route else {
             return Ok((None, notices));
         };
-        let (_, jac) = table.evaluate_with_jacobian(&solved.point)?;
+        let (_, jac) = table.evaluate_with_jacobian(&solved.point, &e)?;
         Ok((Some(solved.jacobian_back(&jac)), notices))
     }
 
@@ -462,6 +492,7 @@ impl Evaluator {
                 traction_coefficient: 0.0,
                 max_temperature: self.model.params().material.bulk_temperature,
                 fluid_load_fraction: 0.0,
+                frictional_power: Some(0.0),
                 in_range: true,
                 converged: true,
             }),

@@ -132,7 +132,16 @@ fn auto_uses_the_table_where_usable_and_else_the_exact_solver_with_the_reason() 
     let r = eval(&auto, &inside());
     assert!(matches!(r.by, Evaluated::Table(_)));
     assert!(r.notices.is_empty());
-    assert_eq!(r.outputs().unwrap(), table().evaluate(&inside()).unwrap());
+    let h = crate::solver::normal_contact(&params(), inside().normal_force).unwrap();
+    let e = crate::table::Ellipse {
+        a: h.a,
+        b: h.b,
+        load_exponent: crate::table::Ellipse::HERTZ,
+    };
+    assert_eq!(
+        r.outputs().unwrap(),
+        table().evaluate(&inside(), &e).unwrap()
+    );
     // outside the speed range
     let fast = OperatingPoint {
         speed: 60.0,
@@ -159,17 +168,16 @@ fn auto_uses_the_table_where_usable_and_else_the_exact_solver_with_the_reason() 
         r.outputs().unwrap().force_x,
         crate::solve(&rough, &inside()).unwrap().global.force_x
     );
-    // the table agrees with the exact solver at a table point (wet, η < 0 by the mirror)
-    let node = OperatingPoint {
-        creepage_x: 0.002,
-        creepage_y: -0.002,
-        spin: -0.1,
-        normal_force: 80e3,
-        speed: 40.0,
-        wetness: 0.2,
-    };
+    // the table agrees with the exact solver at a table point (wet, η < 0 by the mirror): the contact
+    // a/b = 0.5, p_ref = 0.7 GPa as prescribed semi-axes
+    let (node, e) = table()
+        .coordinates()
+        .point(&[0.4, -0.4, -0.05, 80e3, 40.0, 0.2, 0.5, 0.7e9])
+        .unwrap();
+    let at_node = Geometry::of_inputs(1.0, 1.0, [e.a, e.b]);
     let exact = evaluator(Mode::ExactOnly, params());
-    let (a, b) = (eval(&auto, &node), eval(&exact, &node));
+    let at = |ev: &Evaluator| ev.evaluate_at(&node, &at_node, None, &mut None).unwrap();
+    let (a, b) = (at(&auto), at(&exact));
     assert!(matches!(a.by, Evaluated::Table(_)));
     for k in 0..3 {
         let (x, y) = (
@@ -178,6 +186,9 @@ fn auto_uses_the_table_where_usable_and_else_the_exact_solver_with_the_reason() 
         );
         assert!((x - y).abs() < 1e-6 * 80e3, "{k}: {x} vs {y}");
     }
+    // the frictional power, stored as P_f/(F_N·V) in f32
+    let (pa, pb) = (a.frictional_power().unwrap(), b.frictional_power().unwrap());
+    assert!(pb > 0.0 && (pa / pb - 1.0).abs() < 1e-5, "{pa} vs {pb}");
 }
 
 #[test]
@@ -428,11 +439,22 @@ fn the_table_jacobian_is_that_of_evaluate_in_the_callers_frame() {
         4 => p.speed = x,
         _ => p.wetness = x,
     };
-    let get = |p: &OperatingPoint, c: usize| crate::table::coordinates(p)[c];
+    let get = |p: &OperatingPoint, c: usize| {
+        [
+            p.creepage_x,
+            p.creepage_y,
+            p.spin,
+            p.normal_force,
+            p.speed,
+            p.wetness,
+        ][c]
+    };
     // rolling backwards (the creepages, F_x and F_y turn); below the minimum speed with a clamped wetness
-    // (the columns of V and w vanish)
+    // (the columns of V and w vanish). Off the faces of the simplices (where fractions along two linear
+    // axes are equal, the derivative of the interpolant jumps): V = 31, w = 0.13.
     let backwards = OperatingPoint {
-        speed: -30.0,
+        speed: -31.0,
+        wetness: 0.13,
         ..inside()
     };
     let slow = OperatingPoint {
@@ -585,14 +607,18 @@ fn auto_falls_back_for_another_geometry_and_uses_the_table_for_its_own() {
             .0
             .is_none()
     );
-    // the table's geometry by table, with the exact solver's normal contact and no frictional power
+    // the table's geometry by table, with the exact solver's normal contact and the interpolated
+    // frictional power
     let g = table().params().geometry.clone();
     let r = auto.evaluate_at(&inside(), &g, None, &mut None).unwrap();
     assert!(matches!(r.by, Evaluated::Table(_)));
     assert!(r.notices.is_empty());
     assert_eq!(r, eval(&auto, &inside()));
-    assert_eq!(r.frictional_power(), None);
     let s = crate::solve(&params(), &inside()).unwrap();
+    // (interpolated on this coarse table's points; at a table point it is the exact solver's, see
+    // auto_uses_the_table_where_usable_and_else_the_exact_solver_with_the_reason)
+    let power = r.frictional_power().expect("a format 2 table stores it");
+    assert!(power > 0.0 && s.global.frictional_power > 0.0);
     assert_eq!(r.patch.semi_axis_a, s.global.semi_axis_a);
     assert_eq!(r.patch.semi_axis_b, s.global.semi_axis_b);
     assert_eq!(r.patch.peak_pressure, s.global.peak_pressure);
@@ -622,7 +648,7 @@ fn auto_falls_back_for_another_geometry_and_uses_the_table_for_its_own() {
     let e = only
         .evaluate_at(&inside(), &flange_root(), None, &mut None)
         .unwrap_err();
-    assert!(matches!(e, Error::TableParameters { .. }), "{e}");
+    assert!(matches!(e, Error::TableGeometry { .. }), "{e}");
     assert_eq!(
         only.evaluate_at(&inside(), &g, None, &mut None).unwrap(),
         eval(&only, &inside())

@@ -1,4 +1,21 @@
-//! The six axes of a table (issue 5 §1): ξ, η, φ, F_N, V, w, their points and how they are generated.
+//! The eight axes of a table: the creepages ξ, η, φ, the normal force F_N, the speed V, the wetness w and
+//! the contact geometry (ellipse ratio a/b, reference pressure p_ref), their points and how they are
+//! generated.
+//!
+//! **Creepage coordinates** are normalised by Kalker's linear theory (docs/model.md §6): the coordinate of
+//! ξ is ξ̂ = k_x·ξ, the traction coefficient F_x/F_N that the linear theory would give, with
+//! k_x = G·c²·C11/F_N = 3·G·C11/(2π·p0); likewise η̂ = k_y·η (C22) and φ̂ = k_φ·φ, k_φ = 3·G·C23·c/(2π·p0),
+//! c = sqrt(a·b). In these coordinates the creep curves of contacts of any size, shape and pressure nearly
+//! coincide up to saturation (they differ by the local friction, which depends on the pressure, and by the
+//! temperature), so one set of points serves every geometry. Each creepage axis also has a **raw limit**:
+//! the largest |ξ|, |η|, |φ| the table serves (points beyond are outside its range whatever their
+//! normalised coordinate). Tables of format version 1 have raw creepage axes (no normalisation) and a
+//! single geometry.
+//!
+//! **Geometry coordinates**: a/b of the contact ellipse, and p_ref = p0·(F_ref/F_N)^(1/3), the Hertz peak
+//! pressure the contact would have at the reference load F_ref (a contact of fixed curvatures keeps its
+//! p_ref at every load, since a, b ∝ F_N^(1/3)); p0 = 3·F_N/(2π·a·b). A geometry axis with a single point
+//! is a table of that geometry only.
 //!
 //! Creepage axes are interpolated by cubic Hermite splines, the others linearly (see `interp.rs`). A
 //! **mirrored** creepage axis stores only values ≥ 0 and starts at 0; the negative half follows from a
@@ -19,7 +36,13 @@ use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 
 /// Number of table dimensions.
-pub const DIMS: usize = 6;
+pub const DIMS: usize = 8;
+
+/// Number of linearly interpolated dimensions (F_N, V, w, a/b, p_ref).
+pub const LINEAR_DIMS: usize = DIMS - 3;
+
+/// The reference load F_ref of the reference pressure p_ref [N].
+pub const REFERENCE_FORCE: f64 = 100e3;
 
 /// Interpolation along one axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -44,7 +67,9 @@ pub struct Dimension {
     pub interpolation: Interpolation,
 }
 
-/// The dimensions in storage order (slowest first): ξ, η, φ, F_N, V, w.
+/// The dimensions in storage order (slowest first): ξ, η, φ, F_N, V, w, a/b, p_ref. The creepage axes
+/// hold normalised coordinates (see the module documentation) in the unit of the normalisation, the
+/// traction coefficient (format version 1: raw creepages, unit as named).
 pub const DIMENSIONS: [Dimension; DIMS] = [
     Dimension {
         name: "creepage_x",
@@ -82,6 +107,18 @@ pub const DIMENSIONS: [Dimension; DIMS] = [
         unit: "-",
         interpolation: Interpolation::Linear,
     },
+    Dimension {
+        name: "semi_axis_ratio",
+        symbol: "a/b",
+        unit: "-",
+        interpolation: Interpolation::Linear,
+    },
+    Dimension {
+        name: "reference_pressure",
+        symbol: "p_ref",
+        unit: "Pa",
+        interpolation: Interpolation::Linear,
+    },
 ];
 
 /// Index of ξ.
@@ -96,6 +133,10 @@ pub const FORCE: usize = 3;
 pub const SPEED: usize = 4;
 /// Index of w.
 pub const WET: usize = 5;
+/// Index of a/b.
+pub const RATIO: usize = 6;
+/// Index of p_ref.
+pub const PRESSURE: usize = 7;
 
 /// The points of one axis.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -104,6 +145,10 @@ pub struct Axis {
     pub points: Vec<f64>,
     /// Only values ≥ 0 are stored (first point 0); the negative half follows by symmetry.
     pub mirrored: bool,
+    /// Normalised creepage axes: the largest raw |creepage| served (ξ, η [-], φ [1/m]); None for raw
+    /// creepage axes (format version 1) and the other dimensions.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub raw_limit: Option<f64>,
 }
 
 impl Axis {
@@ -137,6 +182,8 @@ pub enum Spacing {
 
 /// One axis as written in an axes file: explicit `points`, or `min`, `max`, `count`, `spacing` (and
 /// `scale` for sinh). `mirrored` (creepage_x only; creepage_y is always mirrored) stores values ≥ 0 only.
+/// Creepage axes are given in normalised coordinates and take `raw_limit`, the largest raw |creepage|
+/// served.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AxisSpec {
@@ -154,6 +201,8 @@ pub struct AxisSpec {
     pub scale: Option<f64>,
     /// Whether only values ≥ 0 are stored.
     pub mirrored: Option<bool>,
+    /// Creepage axes: the largest raw |creepage| served.
+    pub raw_limit: Option<f64>,
 }
 
 /// An axes file (TOML): one optional table per dimension; a missing one takes the default axis.
@@ -172,9 +221,13 @@ pub struct AxesSpec {
     pub speed: Option<AxisSpec>,
     /// w.
     pub wetness: Option<AxisSpec>,
+    /// a/b.
+    pub semi_axis_ratio: Option<AxisSpec>,
+    /// p_ref.
+    pub reference_pressure: Option<AxisSpec>,
 }
 
-/// The six axes of a table, in storage order.
+/// The eight axes of a table, in storage order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Axes(pub [Axis; DIMS]);
 
@@ -185,21 +238,18 @@ impl Default for Axes {
     }
 }
 
-/// The default generator of each dimension: 12 × 8 × 11 × 5 × 6 × 14 = 443 520 points (18 MB).
+/// The default generator of each dimension.
 ///
-/// The counts come from the one-dimensional interpolation error along each axis against the exact model
-/// at the midpoints between the points, over random backgrounds (max |ΔF|/F_N ≈ 1.3e-3 for ξ, 2e-3 for η,
-/// 1.6e-3 for φ, 1.5e-3 for F_N, 1.8e-3 for V, 5e-3 for w), so that their sum stays below the 1 % p99
-/// target:
-/// - ξ, η: sinh spacing with scale 1e-3: the creep curves saturate between 0.05 % (wet, light load) and
-///   1 % creepage (dry, heavy load).
-/// - φ: sinh with scale 0.5 1/m (spin acts like a creepage c·φ with c ≈ 8 mm, but its effect on the
-///   forces bends less sharply than ξ's and η's).
-/// - F_N, V: log spacing.
-/// - w: the friction falls steeply from dry to boundary lubrication while the inlet film h_f0 = w·h_f,max
-///   is below h_bl (w < h_bl/h_f,max = 0.005 for the default parameters: a kink there), stays flat, then
-///   falls again from the onset of mixed lubrication (w ≈ 0.01–0.05): dense points below 0.07, one at the
-///   kink.
+/// - ξ̂, η̂, φ̂ (normalised, see the module documentation): sinh spacing with scale 0.25 (the linear
+///   theory's traction coefficient at which the creep curves bend: they saturate at the local friction,
+///   0.1–0.6), up to the normalised coordinate of the raw limit (|ξ| ≤ 0.1, |η| ≤ 0.02, |φ| ≤ 1 /m) in
+///   the softest contact of the geometry range (p0 ≈ 70 MPa at 10 kN: k_x ≈ 3200, k_y ≈ 3000, k_φ ≈ 6
+///   m): the log-like spacing beyond saturation keeps the count low.
+/// - F_N, V: log spacing; w: dense below 0.07 where the friction falls from dry to boundary lubrication
+///   (a kink at w = h_bl/h_f,max = 0.005 for the default parameters) and from the onset of mixed
+///   lubrication (w ≈ 0.01–0.05).
+/// - a/b from 0.2 (worn, conformal treads) to 5 (flange root), p_ref from 0.15 GPa (conformal) to 2.5 GPa
+///   (flange root, gauge corner): log spacing.
 fn default_spec(dim: usize) -> AxisSpec {
     let gen_ = |min: f64, max: f64, count: usize, spacing: Spacing, scale: Option<f64>| AxisSpec {
         min: Some(min),
@@ -209,36 +259,55 @@ fn default_spec(dim: usize) -> AxisSpec {
         scale,
         ..Default::default()
     };
+    let creepage = |max: f64, count: usize, raw_limit: f64, mirrored: Option<bool>| AxisSpec {
+        mirrored,
+        raw_limit: Some(raw_limit),
+        ..gen_(
+            if mirrored.is_some() { 0.0 } else { -max },
+            max,
+            count,
+            Spacing::Sinh,
+            Some(0.25),
+        )
+    };
     match dim {
-        XI => AxisSpec {
-            mirrored: Some(true),
-            ..gen_(0.0, 0.1, 12, Spacing::Sinh, Some(1e-3))
-        },
-        ETA => AxisSpec {
-            mirrored: Some(true),
-            ..gen_(0.0, 0.02, 8, Spacing::Sinh, Some(1e-3))
-        },
-        PHI => gen_(-1.0, 1.0, 11, Spacing::Sinh, Some(0.5)),
-        FORCE => gen_(10e3, 200e3, 5, Spacing::Log, None),
+        XI => creepage(320.0, 14, 0.1, Some(true)),
+        ETA => creepage(64.0, 10, 0.02, Some(true)),
+        PHI => creepage(6.0, 13, 1.0, None),
+        FORCE => gen_(10e3, 250e3, 5, Spacing::Log, None),
         SPEED => gen_(1.0, 100.0, 6, Spacing::Log, None),
-        _ => AxisSpec {
+        WET => AxisSpec {
             points: Some(vec![
                 0.0, 0.0015, 0.003, 0.005, 0.0085, 0.013, 0.02, 0.03, 0.045, 0.07, 0.11, 0.2, 0.4,
                 1.0,
             ]),
             ..Default::default()
         },
+        RATIO => gen_(0.2, 5.0, 4, Spacing::Log, None),
+        _ => gen_(0.15e9, 2.5e9, 5, Spacing::Log, None),
     }
 }
 
-/// Allowed coordinate range of each dimension (what the exact solver accepts).
-fn physical_range(dim: usize) -> (f64, f64) {
+/// Allowed coordinate range of each dimension (what the exact solver accepts; normalised creepage axes:
+/// a generous bound on the traction coefficient of the linear theory).
+fn physical_range(dim: usize, normalised: bool) -> (f64, f64) {
     match dim {
+        XI | ETA | PHI if normalised => (-1e5, 1e5),
         XI | ETA => (-1.9, 1.9),
         PHI => (-1e4, 1e4),
         FORCE => (1e-3, 1e8),
         SPEED => (1e-6, 1e3),
+        RATIO => (0.01, 100.0),
+        PRESSURE => (1e6, 1e11),
         _ => (0.0, 1.0),
+    }
+}
+
+/// Allowed raw limit of a normalised creepage axis (what the exact solver accepts).
+fn raw_limit_range(dim: usize) -> (f64, f64) {
+    match dim {
+        PHI => (0.0, 1e4),
+        _ => (0.0, 1.9),
     }
 }
 
@@ -285,7 +354,23 @@ impl AxisSpec {
                 )?
             }
         };
-        let axis = Axis { points, mirrored };
+        let raw_limit = match (dim, self.raw_limit) {
+            (XI | ETA | PHI, None) => {
+                return Err(bad(
+                    dim,
+                    "needs raw_limit, the largest raw |creepage| the table serves (its points are \
+                     normalised creepages)",
+                ));
+            }
+            (XI | ETA | PHI, limit) => limit,
+            (_, Some(_)) => return Err(bad(dim, "only creepage axes take a raw_limit")),
+            (_, None) => None,
+        };
+        let axis = Axis {
+            points,
+            mirrored,
+            raw_limit,
+        };
         validate_axis(dim, &axis)?;
         Ok(axis)
     }
@@ -350,14 +435,15 @@ fn generate(
     Ok(p)
 }
 
-/// Checks one axis: enough points for its interpolation, strictly increasing, finite, inside the physical
-/// range of the dimension; a mirrored axis starts at 0.
+/// Checks one axis: enough points for its interpolation (a linear axis may have a single point: a table of
+/// that value only), strictly increasing, finite, inside the physical range of the dimension; a mirrored
+/// axis starts at 0; a raw limit (creepage axes only) inside the solver's range.
 fn validate_axis(dim: usize, axis: &Axis) -> Result<()> {
     let p = &axis.points;
     let needed = match (DIMENSIONS[dim].interpolation, axis.mirrored) {
         (Interpolation::Cubic, true) => 3,
         (Interpolation::Cubic, false) => 4,
-        (Interpolation::Linear, _) => 2,
+        (Interpolation::Linear, _) => 1,
     };
     if p.len() < needed {
         return Err(bad(
@@ -368,7 +454,7 @@ fn validate_axis(dim: usize, axis: &Axis) -> Result<()> {
     if p.iter().any(|x| !x.is_finite()) || p.windows(2).any(|w| w[0] >= w[1]) {
         return Err(bad(dim, "points must be finite and strictly increasing"));
     }
-    let (lo, hi) = physical_range(dim);
+    let (lo, hi) = physical_range(dim, axis.raw_limit.is_some());
     if axis.min() < lo || axis.max() > hi {
         return Err(bad(
             dim,
@@ -377,6 +463,15 @@ fn validate_axis(dim: usize, axis: &Axis) -> Result<()> {
     }
     if axis.mirrored && p[0] != 0.0 {
         return Err(bad(dim, "a mirrored axis starts at 0"));
+    }
+    if let Some(limit) = axis.raw_limit {
+        let (lo, hi) = raw_limit_range(dim);
+        if !(limit > lo && limit <= hi && matches!(dim, XI | ETA | PHI)) {
+            return Err(bad(
+                dim,
+                format!("raw_limit {limit} must lie in ({lo}, {hi}] (creepage axes only)"),
+            ));
+        }
     }
     Ok(())
 }
@@ -391,6 +486,8 @@ impl Axes {
             &spec.normal_force,
             &spec.speed,
             &spec.wetness,
+            &spec.semi_axis_ratio,
+            &spec.reference_pressure,
         ];
         let mut axes = Vec::with_capacity(DIMS);
         for (dim, g) in given.iter().enumerate() {
@@ -400,7 +497,7 @@ impl Axes {
             };
             axes.push(s.resolve(dim)?);
         }
-        let axes = Axes(axes.try_into().expect("six axes"));
+        let axes = Axes(axes.try_into().expect("eight axes"));
         axes.validate()?;
         Ok(axes)
     }
@@ -419,13 +516,22 @@ impl Axes {
         })
     }
 
-    /// Checks every axis and the cross-axis rules (η mirrored; φ symmetric about 0, which the η mirror needs).
+    /// Checks every axis and the cross-axis rules (η mirrored; φ symmetric about 0, which the η mirror
+    /// needs; the creepage axes all normalised or all raw).
     pub fn validate(&self) -> Result<()> {
         for (dim, a) in self.0.iter().enumerate() {
             validate_axis(dim, a)?;
             if a.mirrored && !matches!(dim, XI | ETA) {
                 return Err(bad(dim, "only creepage axes can be mirrored"));
             }
+        }
+        if self.0[ETA].raw_limit.is_some() != self.normalised()
+            || self.0[PHI].raw_limit.is_some() != self.normalised()
+        {
+            return Err(bad(
+                XI,
+                "the creepage axes must all be normalised (with a raw_limit) or all raw",
+            ));
         }
         if !self.0[ETA].mirrored {
             return Err(bad(ETA, "must be mirrored"));
@@ -438,6 +544,11 @@ impl Axes {
             ));
         }
         Ok(())
+    }
+
+    /// Whether the creepage axes are normalised by Kalker's linear theory (format version 1: raw).
+    pub fn normalised(&self) -> bool {
+        self.0[XI].raw_limit.is_some()
     }
 
     /// Stored points per dimension.
@@ -475,17 +586,24 @@ mod tests {
     #[test]
     fn default_axes_cover_the_issue_ranges() {
         let a = Axes::default();
+        // normalised creepages, then F_N, V, w, a/b, p_ref
         let want = [
-            (-0.1, 0.1),
-            (-0.02, 0.02),
-            (-1.0, 1.0),
-            (10e3, 200e3),
+            (-320.0, 320.0),
+            (-64.0, 64.0),
+            (-6.0, 6.0),
+            (10e3, 250e3),
             (1.0, 100.0),
             (0.0, 1.0),
+            (0.2, 5.0),
+            (0.15e9, 2.5e9),
         ];
         for (d, (lo, hi)) in want.iter().enumerate() {
             assert_eq!((a.0[d].min(), a.0[d].max()), (*lo, *hi), "{}", d);
         }
+        let limits: Vec<_> = a.0.iter().map(|x| x.raw_limit).collect();
+        assert_eq!(limits[..3], [Some(0.1), Some(0.02), Some(1.0)]);
+        assert!(limits[3..].iter().all(Option::is_none));
+        assert!(a.normalised());
         a.validate().unwrap();
     }
 
@@ -518,6 +636,7 @@ mod tests {
         let spec = AxesSpec {
             spin: Some(AxisSpec {
                 points: Some(vec![-1.0, 0.0, 0.5, 1.0]),
+                raw_limit: Some(1.0),
                 ..Default::default()
             }),
             ..Default::default()
@@ -527,6 +646,7 @@ mod tests {
         let spec = AxesSpec {
             creepage_y: Some(AxisSpec {
                 points: Some(vec![0.001, 0.01, 0.02]),
+                raw_limit: Some(0.02),
                 ..Default::default()
             }),
             ..Default::default()
@@ -552,14 +672,56 @@ mod tests {
     }
 
     #[test]
+    fn creepage_axes_need_a_raw_limit_and_linear_axes_may_have_one_point() {
+        let mut spec = AxesSpec {
+            creepage_y: Some(AxisSpec {
+                raw_limit: None,
+                ..default_spec(ETA)
+            }),
+            ..Default::default()
+        };
+        let e = Axes::from_spec(&spec).unwrap_err().to_string();
+        assert!(e.contains("creepage_y") && e.contains("raw_limit"), "{e}");
+        spec.creepage_y = Some(AxisSpec {
+            raw_limit: Some(2.5),
+            ..default_spec(ETA)
+        });
+        assert!(Axes::from_spec(&spec).is_err(), "beyond the solver's range");
+        spec.creepage_y = None;
+        spec.speed = Some(AxisSpec {
+            raw_limit: Some(0.1),
+            ..default_spec(SPEED)
+        });
+        assert!(Axes::from_spec(&spec).is_err(), "not a creepage axis");
+        spec.speed = None;
+        spec.semi_axis_ratio = Some(AxisSpec {
+            points: Some(vec![0.56]),
+            ..Default::default()
+        });
+        let a = Axes::from_spec(&spec).unwrap();
+        assert_eq!(a.shape()[RATIO], 1);
+        spec.spin = Some(AxisSpec {
+            points: Some(vec![0.0]),
+            raw_limit: Some(1.0),
+            ..Default::default()
+        });
+        assert!(
+            Axes::from_spec(&spec).is_err(),
+            "a cubic axis needs 4 points"
+        );
+    }
+
+    #[test]
     fn flat_index_coordinates_follow_c_order() {
         let a = Axes::default();
         let s = a.shape();
-        let flat = 1 + s[5] * (2 + s[4] * 3);
+        let flat = 1 + s[7] * (2 + s[6] * (3 + s[5] * (4 + s[4] * 2)));
         let c = a.coordinates(flat);
-        assert_eq!(c[WET], a.0[WET].points[1]);
-        assert_eq!(c[SPEED], a.0[SPEED].points[2]);
-        assert_eq!(c[FORCE], a.0[FORCE].points[3]);
+        assert_eq!(c[PRESSURE], a.0[PRESSURE].points[1]);
+        assert_eq!(c[RATIO], a.0[RATIO].points[2]);
+        assert_eq!(c[WET], a.0[WET].points[3]);
+        assert_eq!(c[SPEED], a.0[SPEED].points[4]);
+        assert_eq!(c[FORCE], a.0[FORCE].points[2]);
         assert_eq!(c[XI], 0.0);
     }
 }

@@ -1,21 +1,35 @@
 //! Computing a table with the exact solver (in parallel, deterministic), in one piece or in shards, and
 //! merging shards.
 //!
-//! The points are solved along lines of ξ (all other coordinates fixed), each point of a line starting from
-//! its predecessor's state ([`crate::solver::solve_from`], continuation); the lines are independent, solved
-//! in parallel, each single-threaded and deterministic, and the results are collected in index order, so the
-//! array bytes do not depend on the thread count or the scheduling. A shard holds whole lines. A point
-//! whose coupled iteration does not converge is solved again from a cold start with four times the
-//! iteration limits and half the initial relaxation; if it still does not converge, its values are kept, it is flagged 0 in
-//! `converged.npy` and listed in the sidecar's `unconverged`, and the build reports it. A point whose solve
-//! fails outright fails the build (naming the point).
+//! The points are solved cube by cube: a **creepage cube** holds every (ξ̂, η̂, φ̂) node at one node of
+//! (F_N, V, w, a/b, p_ref), i.e. one contact at one load, speed and wetness. Inside a cube the points are
+//! solved along lines of ξ̂, each point starting from its predecessor's state ([`crate::solver::solve_from`],
+//! continuation); the cubes are independent, solved in parallel, each single-threaded and deterministic,
+//! and the results are collected in index order, so the array bytes do not depend on the thread count or
+//! the scheduling. A shard holds whole cubes.
+//!
+//! **Coverage windows.** Normalised creepage axes span the raw ranges of the softest contact of the table;
+//! a stiff contact reaches its raw limit (|ξ| ≤ 0.1, …) long before the end of the axis, and beyond it the
+//! raw creepage would leave what the solver accepts. So each cube solves only the nodes that an in-range
+//! evaluation can touch: along each creepage axis, the nodes up to one beyond the first node at or past
+//! raw limit × k_max, where k_max is the largest creepage scale of the cube and its neighbours along F_N,
+//! a/b and p_ref (every cell an evaluation interpolates in; the creepage scales are monotone in each of
+//! them), which covers the four-node window of the cubic interpolation. The nodes beyond hold the values
+//! of the nearest covered node (flat continuation, which keeps the monotone interpolation's slopes finite)
+//! and are never used by an in-range evaluation (`Table::in_range` checks the raw limits).
+//!
+//! A point whose coupled iteration does not converge is solved again from a cold start with four times the
+//! iteration limits and half the initial relaxation; if it still does not converge, its values are kept,
+//! it is flagged 0 in `converged.npy` and listed in the sidecar's `unconverged`, and the build reports it. A
+//! point whose solve fails outright fails the build (naming the point).
 
 use super::TableOutput;
-use super::axes::{Axes, DIMS, FORCE};
+use super::axes::{Axes, DIMS, ETA, FORCE, PHI, PRESSURE, RATIO, XI};
+use super::coords::{Coordinates, Ellipse};
 use super::file::{
-    ArrayRecord, BuildRecord, FORMAT, FORMAT_VERSION, MODEL_VERSION, MomentScale, OUTPUTS,
-    ShardRecord, Sidecar, TableFiles, UnconvergedRecord, axis_records, corrupt, fingerprint,
-    line_stride, now_iso8601, shard_indices, symmetry_notes,
+    ArrayRecord, BuildRecord, FORMAT, FORMAT_VERSION, MODEL_VERSION, OUTPUTS, ShardRecord, Sidecar,
+    TableFiles, UnconvergedRecord, axis_records, corrupt, cube_count, cube_len, fingerprint,
+    now_iso8601, shard_indices, symmetry_notes,
 };
 use crate::error::{Error, Result};
 use crate::params::{FrictionLaw, OperatingPoint, Params};
@@ -23,18 +37,6 @@ use crate::solver::{Solution, WarmStart, solve, solve_from};
 use rayon::prelude::*;
 use std::path::Path;
 use std::time::Instant;
-
-/// The operating point of table coordinates (ξ, η, φ, F_N, V, w).
-pub fn operating_point(c: &[f64; DIMS]) -> OperatingPoint {
-    OperatingPoint {
-        creepage_x: c[0],
-        creepage_y: c[1],
-        spin: c[2],
-        normal_force: c[3],
-        speed: c[4],
-        wetness: c[5],
-    }
-}
 
 /// Solves one point exactly (from `warm`, a neighbouring point's state, if given; if that fails, cold); if
 /// the coupled iteration does not converge, once more from a cold start with four times the iteration and fluid-sweep limits and
@@ -60,23 +62,28 @@ pub fn solve_with_retry(
 }
 
 /// What a table build keeps of one solved point.
+#[derive(Clone)]
 struct PointResult {
-    outputs: [f64; OUTPUTS],
+    outputs: [f32; OUTPUTS],
     converged: bool,
     residual: f64,
 }
 
-/// The stored outputs of a solution: F_x/F_N, F_y/F_N, M_z/(F_N·c(F_N)), T_max [K], fluid load fraction
-/// (an error if the solution lacks one, [`TableOutput::from_solution`]).
-pub fn normalised(s: &Solution, normal_force: f64, scale: &MomentScale) -> Result<[f64; OUTPUTS]> {
+/// The stored outputs of a solution at normal force F_N [N], speed V [m/s] with contact radius c = sqrt(a·b)
+/// [m]: F_x/F_N, F_y/F_N, M_z/(F_N·c), T_max [K], fluid load fraction, P_f/(F_N·V), rounded to the stored
+/// f32 (an error if the solution lacks one, [`TableOutput::from_solution`]).
+pub fn normalised(s: &Solution, point: &OperatingPoint, radius: f64) -> Result<[f32; OUTPUTS]> {
     let o = TableOutput::from_solution(s)?;
+    let f = point.normal_force;
     Ok([
-        o.force_x / normal_force,
-        o.force_y / normal_force,
-        o.spin_moment / (normal_force * scale.radius(normal_force)),
+        o.force_x / f,
+        o.force_y / f,
+        o.spin_moment / (f * radius),
         o.max_temperature,
         o.fluid_load_fraction,
-    ])
+        s.global.frictional_power / (f * point.speed.abs()),
+    ]
+    .map(|v| v as f32))
 }
 
 /// Refuses a friction law that does not model every stored output: only the Tomberger law models the spin
@@ -96,7 +103,192 @@ fn check_law(params: &Params) -> Result<()> {
     })
 }
 
-/// Builds all points of a table (`shard` None) or one shard of it. `on_point` is called once per solved
+/// The largest raw |creepage| the exact solver accepts along each creepage axis (ξ, η [-], φ [1/m]).
+const SOLVER_RAW_LIMITS: [f64; 3] = [1.9, 1.9, 1e4];
+
+/// The node indices of one creepage axis that a cube solves (inclusive), for in-range evaluations up to the
+/// normalised coordinate `x` (see the module documentation).
+fn window(points: &[f64], x: f64) -> (usize, usize) {
+    let n = points.len();
+    let hi = points
+        .iter()
+        .position(|p| *p >= x)
+        .map_or(n - 1, |m| (m + 1).min(n - 1));
+    let lo = points
+        .iter()
+        .rposition(|p| *p <= -x)
+        .map_or(0, |m| m.saturating_sub(1));
+    (lo, hi)
+}
+
+/// One creepage cube of a build: its node of (F_N, V, w, a/b, p_ref) as coordinates, contact, creepage
+/// scales and coverage windows.
+struct Cube {
+    /// Cube index (flat index mod the number of cubes).
+    index: usize,
+    /// Coordinates of the cube's node (the creepage entries unused).
+    node: [f64; DIMS],
+    /// The parameters with the cube's contact as prescribed semi-axes.
+    params: Params,
+    /// The cube's contact ellipse.
+    ellipse: Ellipse,
+    /// k_x, k_y, k_φ of the cube's contact.
+    scales: [f64; 3],
+    /// Solved node range along ξ̂, η̂, φ̂.
+    windows: [(usize, usize); 3],
+}
+
+impl Cube {
+    /// Cube `index` of `axes`: its contact and its windows from the creepage scales of its neighbourhood.
+    fn new(index: usize, axes: &Axes, params: &Params, coords: &Coordinates) -> Result<Cube> {
+        let shape = axes.shape();
+        // node indices of the cube along F_N … p_ref (C order, p_ref fastest)
+        let mut rest = index;
+        let mut at = [0usize; DIMS];
+        for d in (FORCE..DIMS).rev() {
+            at[d] = rest % shape[d];
+            rest /= shape[d];
+        }
+        let coordinate = |d: usize, i: usize| axes.0[d].points[i];
+        let node: [f64; DIMS] =
+            std::array::from_fn(|d| if d < FORCE { 0.0 } else { coordinate(d, at[d]) });
+        let contact = |f: usize, r: usize, p: usize| -> Result<(Ellipse, [f64; 3])> {
+            let force = coordinate(FORCE, f);
+            let [a, b] =
+                super::coords::semi_axes(coordinate(RATIO, r), coordinate(PRESSURE, p), force);
+            let e = Ellipse {
+                a,
+                b,
+                load_exponent: 0.0,
+            };
+            Ok((e, coords.scales(&e, force)?))
+        };
+        let (e, scales) = contact(at[FORCE], at[RATIO], at[PRESSURE])?;
+        let span = |d: usize| at[d].saturating_sub(1)..=(at[d] + 1).min(shape[d] - 1);
+        let mut k_max = scales;
+        for f in span(FORCE) {
+            for r in span(RATIO) {
+                for p in span(PRESSURE) {
+                    let (_, k) = contact(f, r, p)?;
+                    for d in 0..3 {
+                        k_max[d] = k_max[d].max(k[d]);
+                    }
+                }
+            }
+        }
+        let mut windows = [(0, 0); 3];
+        for (d, w) in windows.iter_mut().enumerate() {
+            let axis = &axes.0[d];
+            let limit = axis.raw_limit.unwrap_or(axis.max());
+            *w = window(&axis.points, limit * k_max[d]);
+            let reach = axis.points[w.0].abs().max(axis.points[w.1].abs()) / scales[d];
+            if coords.normalised() && reach > SOLVER_RAW_LIMITS[d] {
+                return Err(Error::Table {
+                    path: "<build>".into(),
+                    reason: format!(
+                        "axis {}: the contact a = {:.3e} m, b = {:.3e} m at F_N = {} N needs raw {} up \
+                         to {reach:.3} (beyond {}) to cover its neighbours' range: use closer points \
+                         along normal_force, semi_axis_ratio and reference_pressure",
+                        super::axes::DIMENSIONS[d].name,
+                        e.a,
+                        e.b,
+                        node[FORCE],
+                        super::axes::DIMENSIONS[d].name,
+                        SOLVER_RAW_LIMITS[d]
+                    ),
+                });
+            }
+        }
+        let mut p = params.clone();
+        p.geometry.semi_axes = Some([e.a, e.b]);
+        Ok(Cube {
+            index,
+            node,
+            params: p,
+            ellipse: e,
+            scales,
+            windows,
+        })
+    }
+
+    /// The operating point of creepage node (i, j, l) of the cube.
+    fn point(&self, axes: &Axes, [i, j, l]: [usize; 3]) -> OperatingPoint {
+        OperatingPoint {
+            creepage_x: axes.0[XI].points[i] / self.scales[0],
+            creepage_y: axes.0[ETA].points[j] / self.scales[1],
+            spin: axes.0[PHI].points[l] / self.scales[2],
+            normal_force: self.node[FORCE],
+            speed: self.node[FORCE + 1],
+            wetness: self.node[FORCE + 2],
+        }
+    }
+
+    /// Solves the cube's covered nodes (lines of ξ̂ by continuation) and fills the others with the nearest
+    /// covered node's result: per creepage node in C order, the result (or the error's text) and whether
+    /// it was solved (not a copy).
+    fn solve(
+        &self,
+        axes: &Axes,
+        on_point: &(dyn Fn() + Sync),
+    ) -> Vec<(std::result::Result<PointResult, String>, bool)> {
+        let [nx, ny, np] = [
+            axes.0[XI].points.len(),
+            axes.0[ETA].points.len(),
+            axes.0[PHI].points.len(),
+        ];
+        let flat = |i: usize, j: usize, l: usize| (i * ny + j) * np + l;
+        let mut out: Vec<Option<std::result::Result<PointResult, String>>> =
+            vec![None; nx * ny * np];
+        let [wx, wy, wp] = self.windows;
+        let radius = self.ellipse.radius();
+        for j in wy.0..=wy.1 {
+            for l in wp.0..=wp.1 {
+                let mut warm: Option<WarmStart> = None;
+                for i in wx.0..=wx.1 {
+                    let point = self.point(axes, [i, j, l]);
+                    let r = solve_with_retry(&self.params, &point, warm.as_ref());
+                    warm = r.as_ref().ok().and_then(Solution::warm_start);
+                    on_point();
+                    out[flat(i, j, l)] = Some(
+                        r.and_then(|sol| {
+                            Ok(PointResult {
+                                outputs: normalised(&sol, &point, radius)?,
+                                converged: sol.report.converged,
+                                residual: sol.report.residual,
+                            })
+                        })
+                        .map_err(|e| {
+                            format!(
+                                "{point:?} at semi-axes [{:e}, {:e}] m: {e}",
+                                self.ellipse.a, self.ellipse.b
+                            )
+                        }),
+                    );
+                }
+            }
+        }
+        let clamp = |x: usize, w: (usize, usize)| x.clamp(w.0, w.1);
+        let mut cube = Vec::with_capacity(nx * ny * np);
+        for i in 0..nx {
+            for j in 0..ny {
+                for l in 0..np {
+                    let (ci, cj, cl) = (clamp(i, wx), clamp(j, wy), clamp(l, wp));
+                    let solved = (ci, cj, cl) == (i, j, l);
+                    if !solved {
+                        on_point();
+                    }
+                    let r = out[flat(ci, cj, cl)]
+                        .clone()
+                        .expect("every covered node is solved");
+                    cube.push((r, solved));
+                }
+            }
+        }
+        cube
+    }
+}
+
+/// Builds all points of a table (`shard` None) or one shard of it. `on_point` is called once per stored
 /// point, from the worker threads (for a progress bar).
 pub fn build(
     params: &Params,
@@ -107,6 +299,12 @@ pub fn build(
     params.validate()?;
     check_law(params)?;
     axes.validate()?;
+    if !axes.normalised() {
+        return Err(Error::Table {
+            path: "<build>".into(),
+            reason: "the creepage axes need raw limits (normalised creepages)".into(),
+        });
+    }
     let s = shard.unwrap_or(ShardRecord { index: 1, count: 1 });
     if s.count == 0 || s.index == 0 || s.index > s.count {
         return Err(Error::out_of_range(
@@ -115,64 +313,45 @@ pub fn build(
             &format!("K/N with 1 <= K <= N (got {}/{})", s.index, s.count),
         ));
     }
-    let scale = MomentScale::of(params, axes.0[FORCE].points[0])?;
-    let indices = shard_indices(axes, s);
+    let coords = Coordinates::new(params, true);
     let start = Instant::now();
-    // each ξ line is one continuation chain (every point starts from its predecessor along ξ); lines are
-    // solved in parallel and their results put back in index order
-    let stride = line_stride(axes);
-    let lines: Vec<usize> = indices.iter().filter(|&&i| i < stride).copied().collect();
-    // per point only what the table keeps (a full solution holds ~100 kB of fields): the normalised
-    // outputs and the convergence report, or the error's text
-    let mut solved: Vec<(usize, std::result::Result<PointResult, String>)> = lines
+    let cubes = cube_count(axes);
+    let mine: Vec<Cube> = (0..cubes)
+        .filter(|t| t % s.count == s.index - 1)
+        .map(|t| Cube::new(t, axes, params, &coords))
+        .collect::<Result<_>>()?;
+    let solved: Vec<Vec<(std::result::Result<PointResult, String>, bool)>> = mine
         .par_iter()
         .with_max_len(1)
-        .flat_map_iter(|&line| {
-            let mut warm: Option<WarmStart> = None;
-            (line..axes.len())
-                .step_by(stride)
-                .map(|i| {
-                    let point = operating_point(&axes.coordinates(i));
-                    let r = solve_with_retry(params, &point, warm.as_ref());
-                    warm = r.as_ref().ok().and_then(Solution::warm_start);
-                    on_point();
-                    let kept = r
-                        .and_then(|sol| {
-                            Ok(PointResult {
-                                outputs: normalised(&sol, point.normal_force, &scale)?,
-                                converged: sol.report.converged,
-                                residual: sol.report.residual,
-                            })
-                        })
-                        .map_err(|e| format!("{point:?}: {e}"));
-                    (i, kept)
-                })
-                .collect::<Vec<_>>()
-        })
+        .map(|c| c.solve(axes, on_point))
         .collect();
-    solved.sort_by_key(|(i, _)| *i);
-    let mut outputs: Vec<Vec<f64>> = (0..OUTPUTS)
-        .map(|_| Vec::with_capacity(indices.len()))
-        .collect();
-    let mut converged = Vec::with_capacity(indices.len());
+    // the shard's points in flat index order: creepage node slowest, cube fastest
+    let per_cube = cube_len(axes);
+    let n = mine.len() * per_cube;
+    let mut outputs: Vec<Vec<f32>> = (0..OUTPUTS).map(|_| Vec::with_capacity(n)).collect();
+    let mut converged = Vec::with_capacity(n);
     let mut unconverged = Vec::new();
     let mut failures = Vec::new();
-    for (i, r) in solved {
-        match r {
-            Ok(p) => {
-                for (o, v) in outputs.iter_mut().zip(p.outputs) {
-                    o.push(v);
+    for c in 0..per_cube {
+        for (cube, results) in mine.iter().zip(&solved) {
+            let index = c * cubes + cube.index;
+            match &results[c].0 {
+                Ok(p) => {
+                    for (o, v) in outputs.iter_mut().zip(p.outputs) {
+                        o.push(v);
+                    }
+                    converged.push(u8::from(p.converged));
+                    if !p.converged && results[c].1 {
+                        unconverged.push(UnconvergedRecord {
+                            index,
+                            point: cube.point(axes, creepage_node(axes, c)),
+                            residual: p.residual,
+                        });
+                    }
                 }
-                converged.push(u8::from(p.converged));
-                if !p.converged {
-                    unconverged.push(UnconvergedRecord {
-                        index: i,
-                        point: operating_point(&axes.coordinates(i)),
-                        residual: p.residual,
-                    });
-                }
+                Err(e) if results[c].1 => failures.push(e.clone()),
+                Err(_) => {}
             }
-            Err(e) => failures.push(e),
         }
     }
     if !failures.is_empty() {
@@ -186,6 +365,52 @@ pub fn build(
             ),
         });
     }
+    unconverged.sort_by_key(|u| u.index);
+    debug_assert_eq!(shard_indices(axes, s).len(), converged.len());
+    Ok(TableFiles {
+        sidecar: sidecar(
+            params,
+            axes,
+            shard,
+            unconverged,
+            start.elapsed().as_secs_f64(),
+        ),
+        axes: axes.clone(),
+        outputs,
+        converged,
+    })
+}
+
+/// A table of values given by a function of the table coordinates (ξ̂, η̂, φ̂, F_N, V, w, a/b, p_ref) instead
+/// of the exact solver, every point marked converged: synthetic tables for tests and benchmarks.
+pub fn tabulate(
+    params: &Params,
+    axes: &Axes,
+    f: &dyn Fn(&[f64; DIMS]) -> [f64; OUTPUTS],
+) -> TableFiles {
+    let n = axes.len();
+    let mut outputs: Vec<Vec<f32>> = (0..OUTPUTS).map(|_| Vec::with_capacity(n)).collect();
+    for i in 0..n {
+        for (o, v) in outputs.iter_mut().zip(f(&axes.coordinates(i))) {
+            o.push(v as f32);
+        }
+    }
+    TableFiles {
+        sidecar: sidecar(params, axes, None, Vec::new(), 0.0),
+        axes: axes.clone(),
+        outputs,
+        converged: vec![1; n],
+    }
+}
+
+/// The sidecar of a build (outputs and converged records are filled in when written).
+fn sidecar(
+    params: &Params,
+    axes: &Axes,
+    shard: Option<ShardRecord>,
+    unconverged: Vec<UnconvergedRecord>,
+    duration_seconds: f64,
+) -> Sidecar {
     let empty = ArrayRecord {
         name: String::new(),
         unit: String::new(),
@@ -193,31 +418,32 @@ pub fn build(
         file: String::new(),
         sha256: String::new(),
     };
-    Ok(TableFiles {
-        sidecar: Sidecar {
-            format: FORMAT.into(),
-            format_version: FORMAT_VERSION,
-            model_version: MODEL_VERSION.into(),
-            fingerprint: fingerprint(params),
-            params: params.clone(),
-            axes: axis_records(axes),
-            symmetry: symmetry_notes(axes),
-            outputs: Vec::new(),
-            converged: empty,
-            unconverged,
-            moment_scale: scale,
-            shard,
-            build: BuildRecord {
-                date: now_iso8601(),
-                duration_seconds: start.elapsed().as_secs_f64(),
-                threads: rayon::current_num_threads(),
-                merged_shards: 0,
-            },
+    Sidecar {
+        format: FORMAT.into(),
+        format_version: FORMAT_VERSION,
+        model_version: MODEL_VERSION.into(),
+        fingerprint: fingerprint(params),
+        params: params.clone(),
+        axes: axis_records(axes),
+        symmetry: symmetry_notes(axes),
+        outputs: Vec::new(),
+        converged: empty,
+        unconverged,
+        moment_scale: None,
+        shard,
+        build: BuildRecord {
+            date: now_iso8601(),
+            duration_seconds,
+            threads: rayon::current_num_threads(),
+            merged_shards: 0,
         },
-        axes: axes.clone(),
-        outputs,
-        converged,
-    })
+    }
+}
+
+/// The (ξ̂, η̂, φ̂) node indices of creepage node `c` (C order within a cube).
+fn creepage_node(axes: &Axes, c: usize) -> [usize; 3] {
+    let (ny, np) = (axes.0[ETA].points.len(), axes.0[PHI].points.len());
+    [c / (ny * np), (c / np) % ny, c % np]
 }
 
 /// Joins the shards 1..=N of one build into the full table. They must come from the same parameters, axes
@@ -248,7 +474,6 @@ pub fn merge(mut shards: Vec<(TableFiles, &Path)>) -> Result<TableFiles> {
         let same = t.sidecar.fingerprint == f.fingerprint
             && t.sidecar.params == f.params
             && t.axes == first.axes
-            && t.sidecar.moment_scale == f.moment_scale
             && t.sidecar.model_version == f.model_version;
         if !same {
             return Err(corrupt(
@@ -273,7 +498,7 @@ pub fn merge(mut shards: Vec<(TableFiles, &Path)>) -> Result<TableFiles> {
     }
     let axes = shards[0].0.axes.clone();
     let total = axes.len();
-    let mut outputs = vec![vec![0.0; total]; OUTPUTS];
+    let mut outputs = vec![vec![0.0f32; total]; OUTPUTS];
     let mut converged = vec![0u8; total];
     let mut unconverged = Vec::new();
     let mut duration = 0.0;

@@ -2,12 +2,16 @@
 //! sidecar `table.json` with the format version, axes with units, outputs, the full parameter set and its
 //! fingerprint, the model version, build date and duration, and the SHA-256 of every array file.
 //!
-//! Arrays are little-endian f64 (u8 for the converged flags) in C order over (ξ, η, φ, F_N, V, w); a shard
-//! (one of N parts of a build) holds 1-D arrays of its points instead. Array bytes depend only on the
-//! parameters and the axes, never on the thread count or the date: those live only in the sidecar's `build`
-//! record. Reading verifies everything and names what does not match.
+//! Arrays are little-endian f32 (u8 for the converged flags) in C order over (ξ̂, η̂, φ̂, F_N, V, w, a/b,
+//! p_ref); a shard (one of N parts of a build) holds 1-D arrays of its points instead. Array bytes depend
+//! only on the parameters and the axes, never on the thread count or the date: those live only in the
+//! sidecar's `build` record. Reading verifies everything and names what does not match.
+//!
+//! Format version 1 (f64 arrays over raw ξ, η, φ, F_N, V, w of the parameters' own contact geometry, from
+//! curvatures) is read as a table of that single geometry: its a/b and p_ref axes are the one point of
+//! the Hertz contact of its parameters.
 
-use super::axes::{Axes, Axis, DIMENSIONS, DIMS, Interpolation};
+use super::axes::{Axes, Axis, DIMENSIONS, DIMS, Interpolation, RATIO, REFERENCE_FORCE};
 use crate::error::{Error, Result};
 use crate::params::{OperatingPoint, Params};
 use ndarray::{ArrayD, IxDyn};
@@ -18,8 +22,8 @@ use std::path::{Path, PathBuf};
 
 /// Value of the sidecar's `format` field.
 pub const FORMAT: &str = "wheelrail-table";
-/// Version of the format this build reads and writes.
-pub const FORMAT_VERSION: u32 = 1;
+/// Version of the format this build writes (it also reads version 1, see the module documentation).
+pub const FORMAT_VERSION: u32 = 2;
 /// File name of the sidecar.
 pub const SIDECAR: &str = "table.json";
 /// File of the per-point converged flags.
@@ -27,8 +31,8 @@ pub const CONVERGED_FILE: &str = "converged.npy";
 /// Version of the model (the crate version) recorded in and required of every table.
 pub const MODEL_VERSION: &str = env!("CARGO_PKG_VERSION");
 
-/// Number of stored outputs.
-pub const OUTPUTS: usize = 5;
+/// Number of stored outputs (format version 1 stored the first five).
+pub const OUTPUTS: usize = 6;
 
 /// One stored output: name (= file stem), unit, meaning.
 pub struct OutputInfo {
@@ -55,7 +59,7 @@ pub const OUTPUT_INFO: [OutputInfo; OUTPUTS] = [
     OutputInfo {
         name: "spin_moment_per_normal_force_radius",
         unit: "-",
-        description: "M_z/(F_N·c), c = sqrt(a·b) from moment_scale",
+        description: "M_z/(F_N·c), c = sqrt(a·b) of the contact",
     },
     OutputInfo {
         name: "max_temperature",
@@ -66,6 +70,11 @@ pub const OUTPUT_INFO: [OutputInfo; OUTPUTS] = [
         name: "fluid_load_fraction",
         unit: "-",
         description: "share of the normal force carried by fluid pressure",
+    },
+    OutputInfo {
+        name: "frictional_power_per_normal_force_speed",
+        unit: "-",
+        description: "P_f/(F_N·V), P_f = Σ|τ|·|s|·ΔA the frictional power dissipated in the contact",
     },
 ];
 
@@ -85,6 +94,9 @@ pub struct AxisRecord {
     pub mirrored: bool,
     /// The stored points.
     pub points: Vec<f64>,
+    /// Normalised creepage axes: the largest raw |creepage| served.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub raw_limit: Option<f64>,
 }
 
 /// One array file in the sidecar.
@@ -101,45 +113,6 @@ pub struct ArrayRecord {
     pub file: String,
     /// SHA-256 of the file's bytes (lower-case hex).
     pub sha256: String,
-}
-
-/// The spin moment's normalisation M_z/(F_N·c) with c(F_N) = contact_radius·(F_N/reference_force)^exponent:
-/// exponent 1/3 for Hertz from curvatures (a, b ∝ F_N^(1/3)), 0 for prescribed semi-axes.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MomentScale {
-    /// F_ref [N].
-    pub reference_force: f64,
-    /// c = sqrt(a·b) at F_ref [m].
-    pub contact_radius: f64,
-    /// Exponent of F_N/F_ref [-].
-    pub exponent: f64,
-}
-
-impl MomentScale {
-    /// The scale of `params` (Hertz at the bulk temperature, or the prescribed semi-axes).
-    pub fn of(params: &Params, reference_force: f64) -> Result<Self> {
-        let h = crate::solver::normal_contact(params, reference_force)?;
-        Ok(Self {
-            reference_force,
-            contact_radius: (h.a * h.b).sqrt(),
-            exponent: if params.geometry.semi_axes.is_some() {
-                0.0
-            } else {
-                1.0 / 3.0
-            },
-        })
-    }
-
-    /// c(F_N) [m].
-    #[inline]
-    pub fn radius(&self, normal_force: f64) -> f64 {
-        if self.exponent == 0.0 {
-            self.contact_radius
-        } else {
-            self.contact_radius * (normal_force / self.reference_force).powf(self.exponent)
-        }
-    }
 }
 
 /// A stored point whose exact solution did not converge even after the retry.
@@ -203,8 +176,10 @@ pub struct Sidecar {
     pub converged: ArrayRecord,
     /// Points that did not converge (also flagged 0 in `converged`).
     pub unconverged: Vec<UnconvergedRecord>,
-    /// Normalisation of the spin moment.
-    pub moment_scale: MomentScale,
+    /// Format version 1 only: the normalisation of the spin moment by the contact radius c(F_N) of its
+    /// geometry, which is √(a·b) of the contact, as in version 2 (kept to read such sidecars; unused).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub moment_scale: Option<serde_json::Value>,
     /// Set for one part of a sharded build.
     pub shard: Option<ShardRecord>,
     /// Date, duration, threads.
@@ -218,7 +193,7 @@ pub fn symmetry_notes(axes: &Axes) -> Vec<String> {
          temperature and fluid load unchanged"
             .to_string(),
     ];
-    if axes.0[0].mirrored {
+    if axes.0[super::axes::XI].mirrored {
         v.push(
             "creepage_x mirrored (exact dry, within about 5e-4 F_N wet): xi -> -xi gives \
              (F_x, F_y, M_z) -> (-F_x, F_y, M_z), temperature and fluid load unchanged"
@@ -240,16 +215,25 @@ pub fn axis_records(axes: &Axes) -> Vec<AxisRecord> {
             interpolation: d.interpolation,
             mirrored: a.mirrored,
             points: a.points.clone(),
+            raw_limit: a.raw_limit,
         })
         .collect()
 }
 
-/// The axes of sidecar records, checked against the dimensions this build knows.
-fn axes_of(records: &[AxisRecord], path: &Path) -> Result<Axes> {
-    if records.len() != DIMS {
+/// The axes of sidecar records, checked against the dimensions this build knows. Format version 1 lists
+/// the first six; its geometry axes are the single point of its parameters' contact (see the module
+/// documentation).
+fn axes_of(sidecar: &Sidecar, path: &Path) -> Result<Axes> {
+    let records = &sidecar.axes;
+    let listed = if sidecar.format_version == 1 {
+        RATIO
+    } else {
+        DIMS
+    };
+    if records.len() != listed {
         return Err(corrupt(
             path,
-            format!("{} axes listed, expected {DIMS}", records.len()),
+            format!("{} axes listed, expected {listed}", records.len()),
         ));
     }
     let mut axes = Vec::with_capacity(DIMS);
@@ -266,11 +250,33 @@ fn axes_of(records: &[AxisRecord], path: &Path) -> Result<Axes> {
         axes.push(Axis {
             points: r.points.clone(),
             mirrored: r.mirrored,
+            raw_limit: r.raw_limit,
         });
     }
-    let axes = Axes(axes.try_into().expect("six axes"));
+    if sidecar.format_version == 1 {
+        if sidecar.params.geometry.semi_axes.is_some() {
+            return Err(corrupt(
+                path,
+                "is of format version 1 with prescribed semi-axes, whose p_ref changes with the load: \
+                 rebuild it",
+            ));
+        }
+        let h = crate::solver::normal_contact(&sidecar.params, REFERENCE_FORCE)
+            .map_err(|e| corrupt(path, format!("no contact for its parameters: {e}")))?;
+        for x in [h.a / h.b, h.p0] {
+            axes.push(Axis {
+                points: vec![x],
+                mirrored: false,
+                raw_limit: None,
+            });
+        }
+    }
+    let axes = Axes(axes.try_into().expect("eight axes"));
     axes.validate()
         .map_err(|e| corrupt(path, format!("invalid axes: {e}")))?;
+    if sidecar.format_version > 1 && !axes.normalised() {
+        return Err(corrupt(path, "creepage axes without raw limits"));
+    }
     Ok(axes)
 }
 
@@ -369,8 +375,9 @@ pub struct TableFiles {
     pub sidecar: Sidecar,
     /// The axes (from the sidecar).
     pub axes: Axes,
-    /// Per output: values in flat order (full table: C order; shard: the shard's points in index order).
-    pub outputs: Vec<Vec<f64>>,
+    /// Per output: values in flat order (full table: C order; shard: the shard's points in index order),
+    /// in the stored precision.
+    pub outputs: Vec<Vec<f32>>,
     /// Per point: 1 converged, 0 not.
     pub converged: Vec<u8>,
 }
@@ -387,16 +394,28 @@ fn npy_bytes<T: ndarray_npy::WritableElement + Clone>(data: &[T], shape: &[usize
 impl TableFiles {
     /// Shape of every array: the axes' for a full table, (points,) for a shard.
     pub fn array_shape(&self) -> Vec<usize> {
+        self.shape_of(self.sidecar.format_version)
+    }
+
+    /// [`TableFiles::array_shape`] as written in format `version` (version 1: six dimensions).
+    fn shape_of(&self, version: u32) -> Vec<usize> {
+        let dims = if version == 1 { RATIO } else { DIMS };
         match self.sidecar.shard {
             Some(_) => vec![self.converged.len()],
-            None => self.axes.shape().to_vec(),
+            None => self.axes.shape()[..dims].to_vec(),
         }
     }
 
-    /// Writes the arrays, then the sidecar (with their hashes), into `dir` (created if missing).
+    /// Writes the arrays, then the sidecar (with their hashes), into `dir` (created if missing), in the
+    /// current format version.
     pub fn write(&mut self, dir: &Path) -> Result<()> {
         let io = |p: &Path, e: std::io::Error| corrupt(p, format!("cannot write: {e}"));
         std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+        if self.sidecar.format_version != FORMAT_VERSION || self.sidecar.moment_scale.is_some() {
+            self.sidecar.format_version = FORMAT_VERSION;
+            self.sidecar.moment_scale = None;
+            self.sidecar.axes = axis_records(&self.axes);
+        }
         let shape = self.array_shape();
         let mut records = Vec::with_capacity(OUTPUTS);
         for (info, data) in OUTPUT_INFO.iter().zip(&self.outputs) {
@@ -448,11 +467,12 @@ impl TableFiles {
                 format!("format is {:?}, expected {FORMAT:?}", sidecar.format),
             ));
         }
-        if sidecar.format_version != FORMAT_VERSION {
+        if !(1..=FORMAT_VERSION).contains(&sidecar.format_version) {
             return Err(corrupt(
                 &side_path,
                 format!(
-                    "format version {} is not supported (this build reads version {FORMAT_VERSION})",
+                    "format version {} is not supported (this build reads versions 1 to \
+                     {FORMAT_VERSION})",
                     sidecar.format_version
                 ),
             ));
@@ -480,9 +500,14 @@ impl TableFiles {
                 ),
             ));
         }
-        let axes = axes_of(&sidecar.axes, &side_path)?;
+        let axes = axes_of(&sidecar, &side_path)?;
         let names: Vec<&str> = sidecar.outputs.iter().map(|o| o.name.as_str()).collect();
-        let want: Vec<&str> = OUTPUT_INFO.iter().map(|o| o.name).collect();
+        let stored = if sidecar.format_version == 1 {
+            OUTPUTS - 1
+        } else {
+            OUTPUTS
+        };
+        let want: Vec<&str> = OUTPUT_INFO[..stored].iter().map(|o| o.name).collect();
         if names != want {
             return Err(corrupt(
                 &side_path,
@@ -499,16 +524,28 @@ impl TableFiles {
                 }
                 vec![shard_len(&axes, s)]
             }
+            None if sidecar.format_version == 1 => axes.shape()[..RATIO].to_vec(),
             None => axes.shape().to_vec(),
         };
         let mut outputs = Vec::with_capacity(OUTPUTS);
         for rec in &sidecar.outputs {
-            let a: ArrayD<f64> = read_array(dir, rec, &shape)?;
-            let v = a.into_raw_vec_and_offset().0;
+            // version 1 stored f64: rounded to the f32 the table keeps in memory
+            let v: Vec<f32> = if sidecar.format_version == 1 {
+                let a: ArrayD<f64> = read_array(dir, rec, &shape)?;
+                a.iter().map(|x| *x as f32).collect()
+            } else {
+                read_array::<f32>(dir, rec, &shape)?
+                    .into_raw_vec_and_offset()
+                    .0
+            };
             if v.iter().any(|x| !x.is_finite()) {
                 return Err(corrupt(&dir.join(&rec.file), "non-finite values"));
             }
             outputs.push(v);
+        }
+        if stored < OUTPUTS {
+            // format version 1 has no frictional power: NaN, which the table reports as absent
+            outputs.push(vec![f32::NAN; outputs[0].len()]);
         }
         let converged = read_array::<u8>(dir, &sidecar.converged, &shape)?
             .into_raw_vec_and_offset()
@@ -522,24 +559,31 @@ impl TableFiles {
     }
 }
 
-/// Distance in flat index between neighbours along ξ (the slowest axis): the number of ξ lines.
-pub fn line_stride(axes: &Axes) -> usize {
-    axes.len() / axes.0[0].points.len()
+/// Number of points of one creepage cube: all (ξ̂, η̂, φ̂) nodes at fixed (F_N, V, w, a/b, p_ref).
+pub fn cube_len(axes: &Axes) -> usize {
+    axes.shape()[..3].iter().product()
 }
 
-/// The flat indices (ascending) of shard K/N: every point of the ξ lines l (l = index mod line_stride)
-/// with l mod N = K − 1 — whole lines, so that each shard keeps its continuation chains (build.rs).
+/// Number of creepage cubes: the (F_N, V, w, a/b, p_ref) nodes. A point of flat index i lies in cube
+/// i mod cube_count (the creepage dimensions are the slowest).
+pub fn cube_count(axes: &Axes) -> usize {
+    axes.shape()[3..].iter().product()
+}
+
+/// The flat indices (ascending) of shard K/N: every point of the creepage cubes t with t mod N = K − 1 —
+/// whole cubes, so that each shard keeps its continuation chains and the coverage windows of its cubes
+/// (build.rs).
 pub fn shard_indices(axes: &Axes, s: ShardRecord) -> Vec<usize> {
-    let stride = line_stride(axes);
+    let cubes = cube_count(axes);
     (0..axes.len())
-        .filter(|i| (i % stride) % s.count == s.index - 1)
+        .filter(|i| (i % cubes) % s.count == s.index - 1)
         .collect()
 }
 
 /// Number of points of shard `s` (1 ≤ K ≤ N) of a table with `axes`.
 pub fn shard_len(axes: &Axes, s: ShardRecord) -> usize {
-    let stride = line_stride(axes);
-    (stride + s.count - s.index) / s.count * axes.0[0].points.len()
+    let cubes = cube_count(axes);
+    (cubes + s.count - s.index) / s.count * cube_len(axes)
 }
 
 /// Reads one array file: the bytes must hash to the recorded SHA-256 and hold an array of `shape`.
@@ -646,42 +690,30 @@ mod tests {
     }
 
     #[test]
-    fn moment_scale_follows_hertz_cube_root() {
-        let p = Params::default();
-        let s = MomentScale::of(&p, 10e3).unwrap();
-        for f in [10e3, 47e3, 200e3] {
-            let h = crate::solver::normal_contact(&p, f).unwrap();
-            let c = (h.a * h.b).sqrt();
-            assert!((s.radius(f) / c - 1.0).abs() < 1e-9, "{f}");
-        }
-        let mut q = Params::default();
-        q.geometry.semi_axes = Some([6e-3, 9e-3]);
-        let s = MomentScale::of(&q, 10e3).unwrap();
-        assert_eq!(s.exponent, 0.0);
-        assert!((s.radius(150e3) - (54e-6f64).sqrt()).abs() < 1e-15);
-    }
-
-    #[test]
-    fn shards_partition_the_points_into_whole_xi_lines() {
+    fn shards_partition_the_points_into_whole_creepage_cubes() {
         use crate::table::{AxesSpec, AxisSpec};
-        let pts = |p: &[f64]| {
+        let pts = |p: &[f64], raw_limit: Option<f64>| {
             Some(AxisSpec {
                 points: Some(p.to_vec()),
+                raw_limit,
                 ..Default::default()
             })
         };
         let axes = Axes::from_spec(&AxesSpec {
-            creepage_x: pts(&[0.0, 0.01, 0.05, 0.1]),
-            creepage_y: pts(&[0.0, 0.001, 0.005, 0.01]),
-            spin: pts(&[-1.0, -0.1, 0.1, 1.0]),
-            normal_force: pts(&[50e3, 100e3]),
-            speed: pts(&[10.0, 30.0]),
-            wetness: pts(&[0.0, 1.0]),
+            creepage_x: pts(&[0.0, 0.5, 2.0, 10.0], Some(0.1)),
+            creepage_y: pts(&[0.0, 0.3, 1.0, 5.0], Some(0.02)),
+            spin: pts(&[-1.0, -0.1, 0.1, 1.0], Some(1.0)),
+            normal_force: pts(&[50e3, 100e3], None),
+            speed: pts(&[10.0, 30.0], None),
+            wetness: pts(&[0.0, 1.0], None),
+            semi_axis_ratio: pts(&[0.5, 2.0], None),
+            reference_pressure: pts(&[0.8e9], None),
         })
         .unwrap();
-        let stride = line_stride(&axes);
-        assert_eq!(stride * 4, axes.len());
-        for count in [1, 2, 5, 7, stride, stride + 3] {
+        let cubes = cube_count(&axes);
+        assert_eq!(cubes, 16);
+        assert_eq!(cubes * cube_len(&axes), axes.len());
+        for count in [1, 2, 5, 7, cubes, cubes + 3] {
             let mut seen = vec![0; axes.len()];
             for index in 1..=count {
                 let s = ShardRecord { index, count };
@@ -690,8 +722,8 @@ mod tests {
                 assert!(idx.windows(2).all(|w| w[0] < w[1]));
                 for i in &idx {
                     seen[*i] += 1;
-                    // the whole ξ line of every point is in the shard
-                    assert!(idx.contains(&(i % stride)));
+                    // the whole creepage cube of every point is in the shard
+                    assert!((0..cube_len(&axes)).all(|c| idx.contains(&(c * cubes + i % cubes))));
                 }
             }
             assert!(seen.iter().all(|n| *n == 1), "count {count}");

@@ -1,14 +1,18 @@
 //! Table against the exact solver (issue 5 §3, `wheelrail table verify`): sample points inside the ranges,
 //! solve them exactly with the table's own parameters, and report max, p99 and mean errors.
 //!
-//! Samples alternate between uniform random points over the full ranges (both signs of mirrored creepages)
-//! and the midpoints, along every axis at once, of a random table cell — where interpolation errs most. The
-//! force error is |ΔF|/F_N = |(ΔF_x, ΔF_y)|/F_N; the target of issue 5 is p99 ≤ 0.01 and max ≤ 0.03. Exact
-//! points that do not converge (after the retry) are skipped and counted, never compared.
+//! Samples alternate between uniform random points over the full ranges and the midpoints, along every
+//! axis at once, of a random table cell — where interpolation errs most: the contact geometry (a/b,
+//! p_ref), F_N, V and w first, then the creepages within what the table serves for that contact (their
+//! raw limits: uniform in the normalised coordinate up to the raw limit, or the midpoint of a random cell
+//! below it; both signs of mirrored creepages). The force error is |ΔF|/F_N = |(ΔF_x, ΔF_y)|/F_N; the
+//! target of issues 5 and 13 is p99 ≤ 0.01 and max ≤ 0.03. Exact points that do not converge (after the
+//! retry) are skipped and counted, never compared.
 
-use super::axes::DIMS;
-use super::build::{operating_point, solve_with_retry};
-use super::{Table, TableOutput, coordinates};
+use super::axes::{DIMS, FORCE};
+use super::build::solve_with_retry;
+use super::coords::Ellipse;
+use super::{Table, TableOutput};
 use crate::error::Result;
 use crate::params::OperatingPoint;
 use rayon::prelude::*;
@@ -49,28 +53,50 @@ impl SplitMix64 {
     }
 }
 
+/// One sample: an operating point and its contact ellipse (prescribed semi-axes).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    /// The operating point.
+    pub point: OperatingPoint,
+    /// The contact ellipse at its normal force.
+    pub ellipse: Ellipse,
+}
+
 /// `n` sample points of a table: even samples uniform over the ranges, odd ones at random cell midpoints
-/// (random sign on mirrored creepages).
-pub fn sample_points(table: &Table, n: usize, seed: u64) -> Vec<OperatingPoint> {
+/// (random sign on mirrored creepages), the creepages within the raw limits of the sampled contact.
+pub fn sample_points(table: &Table, n: usize, seed: u64) -> Vec<Sample> {
     let mut rng = SplitMix64::new(seed);
     let axes = &table.axes().0;
+    let coords = table.coordinates();
     (0..n)
         .map(|s| {
-            let c: [f64; DIMS] = std::array::from_fn(|d| {
+            let mut q = [0.0; DIMS];
+            // contact, load, speed, wetness first; then the creepages the contact is served for
+            for d in (FORCE..DIMS).chain(0..FORCE) {
                 let a = &axes[d];
-                if s % 2 == 0 {
-                    a.min() + (a.max() - a.min()) * rng.uniform()
+                let (lo, hi) = if d < FORCE {
+                    let (_, e) = coords.point(&q).expect("a valid table node");
+                    let k = coords.scales(&e, q[FORCE]).expect("a valid contact")[d];
+                    let top = a.raw_limit.map_or(a.max(), |l| (l * k).min(a.max()));
+                    (if a.mirrored { -top } else { a.min().max(-top) }, top)
                 } else {
-                    let i = rng.below(a.points.len() - 1);
-                    let mid = 0.5 * (a.points[i] + a.points[i + 1]);
+                    (a.min(), a.max())
+                };
+                let below: Vec<f64> = a.points.iter().copied().filter(|x| *x <= hi).collect();
+                q[d] = if s % 2 == 0 || below.len() < 2 || a.points.len() < 2 {
+                    lo + (hi - lo) * rng.uniform()
+                } else {
+                    let i = rng.below(below.len() - 1);
+                    let mid = 0.5 * (below[i] + below[i + 1]);
                     if a.mirrored && rng.uniform() < 0.5 {
                         -mid
                     } else {
-                        mid
+                        mid.max(lo)
                     }
-                }
-            });
-            operating_point(&c)
+                };
+            }
+            let (point, ellipse) = coords.point(&q).expect("a valid table point");
+            Sample { point, ellipse }
         })
         .collect()
 }
@@ -112,6 +138,8 @@ impl Stats {
 pub struct Worst {
     /// The operating point.
     pub point: OperatingPoint,
+    /// Its contact's semi-axes [a, b] [m].
+    pub semi_axes: [f64; 2],
     /// |ΔF|/F_N there.
     pub force_error: f64,
 }
@@ -135,6 +163,8 @@ pub struct VerifyReport {
     pub max_temperature: Stats,
     /// |Δ fluid load fraction| [-].
     pub fluid_load_fraction: Stats,
+    /// |ΔP_f|/(F_N·V), frictional power [-] (None: the table does not store it, format version 1).
+    pub frictional_power: Option<Stats>,
     /// Where the force error is largest.
     pub worst: Option<Worst>,
 }
@@ -154,42 +184,46 @@ impl VerifyReport {
 /// `on_point` is called after each exact solve.
 pub fn verify(
     table: &Table,
-    points: &[OperatingPoint],
+    points: &[Sample],
     on_point: &(dyn Fn() + Sync),
 ) -> Result<VerifyReport> {
-    let params = table.params();
-    let scale = table.sidecar().moment_scale;
     // per point: None if the exact solution did not converge, else (errors, table converged)
-    let rows: Vec<Option<([f64; 5], bool)>> = points
+    let rows: Vec<Option<([f64; 6], bool)>> = points
         .par_iter()
         .with_max_len(1)
-        .map(|p| {
-            let exact = solve_with_retry(params, p, None);
+        .map(|sample| {
+            let (p, e) = (&sample.point, &sample.ellipse);
+            let mut params = table.params().clone();
+            params.geometry.semi_axes = Some([e.a, e.b]);
+            let exact = solve_with_retry(&params, p, None);
             on_point();
             let exact = exact?;
             if !exact.report.converged {
                 return Ok(None);
             }
-            let t = table.evaluate(p)?;
+            let t = table.evaluate(p, e)?;
             let g = TableOutput::from_solution(&exact)?;
             let f = p.normal_force;
             Ok(Some((
                 [
                     (t.force_x - g.force_x).hypot(t.force_y - g.force_y) / f,
-                    (t.spin_moment - g.spin_moment).abs() / (f * scale.radius(f)),
+                    (t.spin_moment - g.spin_moment).abs() / (f * e.radius()),
                     (t.traction_coefficient - g.traction_coefficient).abs(),
                     (t.max_temperature - g.max_temperature).abs(),
                     (t.fluid_load_fraction - g.fluid_load_fraction).abs(),
+                    t.frictional_power
+                        .zip(g.frictional_power)
+                        .map_or(0.0, |(a, b)| (a - b).abs() / (f * p.speed.abs())),
                 ],
                 t.converged,
             )))
         })
         .collect::<Result<_>>()?;
-    let mut cols: [Vec<f64>; 5] = Default::default();
+    let mut cols: [Vec<f64>; 6] = Default::default();
     let mut worst: Option<Worst> = None;
     let mut skipped = 0;
     let mut table_unconverged = 0;
-    for (p, r) in points.iter().zip(&rows) {
+    for (sample, r) in points.iter().zip(&rows) {
         let Some((e, conv)) = r else {
             skipped += 1;
             continue;
@@ -200,16 +234,12 @@ pub fn verify(
         table_unconverged += usize::from(!conv);
         if worst.is_none_or(|w| e[0] > w.force_error) {
             worst = Some(Worst {
-                point: *p,
+                point: sample.point,
+                semi_axes: [sample.ellipse.a, sample.ellipse.b],
                 force_error: e[0],
             });
         }
     }
-    debug_assert!(
-        points
-            .iter()
-            .all(|p| coordinates(p).iter().all(|x| x.is_finite()))
-    );
     Ok(VerifyReport {
         compared: cols[0].len(),
         skipped_unconverged: skipped,
@@ -219,6 +249,7 @@ pub fn verify(
         traction_coefficient: Stats::of(&cols[2]),
         max_temperature: Stats::of(&cols[3]),
         fluid_load_fraction: Stats::of(&cols[4]),
+        frictional_power: table.stores_frictional_power().then(|| Stats::of(&cols[5])),
         worst,
     })
 }
@@ -253,11 +284,20 @@ mod tests {
         let t = super::super::synthetic(
             &super::super::tiny_axes(),
             &super::super::coarse_params(),
-            &|_| [0.0, 0.0, 0.0, 300.0, 0.0],
+            &|_| [0.0, 0.0, 0.0, 300.0, 0.0, 0.0],
         );
         let pts = sample_points(&t, 400, 3);
-        assert!(pts.iter().all(|p| t.in_range(p)));
-        assert!(pts.iter().any(|p| p.creepage_x < 0.0) && pts.iter().any(|p| p.creepage_y < 0.0));
+        assert!(pts.iter().all(|s| t.in_range(&s.point, &s.ellipse)));
+        assert!(
+            pts.iter().any(|s| s.point.creepage_x < 0.0)
+                && pts.iter().any(|s| s.point.creepage_y < 0.0)
+        );
+        // the creepages reach close to their raw limits
+        let top = pts
+            .iter()
+            .map(|s| s.point.creepage_x.abs())
+            .fold(0.0, f64::max);
+        assert!(top > 0.5 * t.axes().0[0].raw_limit.unwrap(), "{top}");
         assert_eq!(pts, sample_points(&t, 400, 3));
         assert_ne!(pts, sample_points(&t, 400, 4));
     }

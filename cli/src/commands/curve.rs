@@ -1,4 +1,5 @@
-//! `wheelrail curve`: a traction–creepage curve over one creepage.
+//! `wheelrail curve`: a traction–creepage curve over one creepage, or the forces over the contact ellipse's
+//! shape.
 
 use super::{ModelArgs, solution_json, warn_unconverged};
 use anyhow::{Context, Result, bail};
@@ -8,7 +9,7 @@ use std::path::PathBuf;
 use wheelrail::{Model, OperatingPoint};
 use wheelrail_cli::plot::{Chart, Series, line_chart};
 
-/// Which creepage is swept.
+/// Which input is swept.
 #[derive(Debug, Clone, Copy, ValueEnum, PartialEq)]
 pub enum Over {
     /// Longitudinal creepage ξ [-].
@@ -17,6 +18,9 @@ pub enum Over {
     CreepageY,
     /// Spin creepage φ [1/m].
     Spin,
+    /// Ratio a/b of the contact ellipse's semi-axes [-], at the contact area (so the peak pressure) of the
+    /// given geometry and normal force: prescribed semi-axes a = r·b, b = sqrt(a₀·b₀/r).
+    SemiAxisRatio,
 }
 
 impl Over {
@@ -25,6 +29,7 @@ impl Over {
             Over::CreepageX => "creepage_x",
             Over::CreepageY => "creepage_y",
             Over::Spin => "spin",
+            Over::SemiAxisRatio => "semi_axis_ratio",
         }
     }
 }
@@ -43,7 +48,7 @@ pub enum Format {
 pub struct CurveArgs {
     #[command(flatten)]
     model: ModelArgs,
-    /// The creepage to sweep (the others stay at their flag values).
+    /// The creepage or contact shape to sweep (the others stay at their flag values).
     #[arg(long, value_enum, default_value = "creepage-x")]
     over: Over,
     /// Start of the sweep.
@@ -64,6 +69,36 @@ pub struct CurveArgs {
     /// Draw the traction–creepage curve (f against the swept creepage) to FILE.png or FILE.svg.
     #[arg(long, value_name = "FILE")]
     plot: Option<PathBuf>,
+}
+
+/// The solutions of `point` for contact ellipses of the ratios a/b in `ratios` with the area of the
+/// model's own contact at the point's normal force (docs/model.md §2: the peak pressure stays the same),
+/// each solved cold (the grid changes with the shape), in parallel.
+fn shapes(
+    model: &Model,
+    point: &OperatingPoint,
+    ratios: &[f64],
+) -> Result<Vec<wheelrail::Result<wheelrail::Solution>>> {
+    use rayon::prelude::*;
+    let h = wheelrail::solver::normal_contact(model.params(), point.normal_force)?;
+    let area = h.a * h.b;
+    let models = ratios
+        .iter()
+        .map(|&r| {
+            if !(r.is_finite() && r > 0.0) {
+                bail!(wheelrail::Error::out_of_range(
+                    "semi_axis_ratio",
+                    r,
+                    "finite and > 0 (give --min and --max)"
+                ));
+            }
+            let b = (area / r).sqrt();
+            let mut p = model.params().clone();
+            p.geometry.semi_axes = Some([r * b, b]);
+            Ok(Model::new(p)?)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(models.par_iter().map(|m| m.solve(point)).collect())
 }
 
 /// Runs `wheelrail curve`.
@@ -88,21 +123,25 @@ pub fn run(a: &CurveArgs) -> Result<()> {
     let values: Vec<f64> = (0..a.points)
         .map(|k| a.min + (a.max - a.min) * k as f64 / (a.points - 1) as f64)
         .collect();
-    let points: Vec<OperatingPoint> = values
-        .iter()
-        .map(|&v| {
-            let mut pt = base;
-            match a.over {
-                Over::CreepageX => pt.creepage_x = v,
-                Over::CreepageY => pt.creepage_y = v,
-                Over::Spin => pt.spin = v,
-            }
-            pt.validate()?;
-            Ok(pt)
-        })
-        .collect::<Result<_>>()?;
-    let rows: Vec<Result<serde_json::Value>> = model
-        .sweep(&points)
+    let solutions = if a.over == Over::SemiAxisRatio {
+        shapes(&model, &base, &values)?
+    } else {
+        let points: Vec<OperatingPoint> = values
+            .iter()
+            .map(|&v| {
+                let mut pt = base;
+                match a.over {
+                    Over::CreepageX => pt.creepage_x = v,
+                    Over::CreepageY => pt.creepage_y = v,
+                    _ => pt.spin = v,
+                }
+                pt.validate()?;
+                Ok(pt)
+            })
+            .collect::<Result<_>>()?;
+        model.sweep(&points)
+    };
+    let rows: Vec<Result<serde_json::Value>> = solutions
         .into_iter()
         .zip(&values)
         .map(|(s, &v)| {
@@ -162,6 +201,7 @@ pub fn run(a: &CurveArgs) -> Result<()> {
             Over::CreepageX => "longitudinal creepage ξ [-]",
             Over::CreepageY => "lateral creepage η [-]",
             Over::Spin => "spin creepage φ [1/m]",
+            Over::SemiAxisRatio => "semi-axis ratio a/b [-]",
         };
         let title = format!(
             "Traction–creepage, V = {} m/s, F_N = {} kN, w = {}, {}",

@@ -48,7 +48,7 @@ struct BuildArgs {
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "table")]
     out: PathBuf,
-    /// Build only part K of N (1 ≤ K ≤ N: the whole ξ lines l with l mod N = K − 1), e.g. one task of a
+    /// Build only part K of N (1 ≤ K ≤ N: the whole creepage cubes t with t mod N = K − 1), e.g. one task of a
     /// cluster array job; join the parts with `wheelrail table merge`.
     #[arg(long, value_name = "K/N")]
     shard: Option<String>,
@@ -56,7 +56,7 @@ struct BuildArgs {
 
 #[derive(Debug, Args)]
 struct SlurmArgs {
-    /// Number of shards N (array tasks 1..N; at most the number of ξ lines).
+    /// Number of shards N (array tasks 1..N; at most the number of creepage cubes).
     #[arg(long, value_name = "N")]
     shards: usize,
     /// Job directory on a file system the compute nodes share: the scripts, logs/, shards/K and the merged
@@ -240,13 +240,14 @@ fn slurm(a: &SlurmArgs) -> Result<()> {
         Some(p) => Axes::from_toml_file(p)?,
         None => Axes::default(),
     };
-    let lines = table::file::line_stride(&axes);
-    if a.shards == 0 || a.shards > lines {
+    let cubes = table::file::cube_count(&axes);
+    if a.shards == 0 || a.shards > cubes {
         bail!(wheelrail::Error::out_of_range(
             "shards",
             a.shards as f64,
             &format!(
-                "1 ..= {lines} (the number of xi lines of the axes; a shard holds whole lines)"
+                "1 ..= {cubes} (the number of creepage cubes of the axes, one per node of normal force, \
+                 speed, wetness and contact geometry; a shard holds whole cubes)"
             ),
         ));
     }
@@ -322,7 +323,9 @@ fn run_verify(a: &VerifyArgs) -> Result<()> {
             "whole number >= 1"
         ));
     }
-    let t = Table::load(&a.dir)?;
+    // without the probe check of `Table::load`: the comparison with the exact solver below is the thorough
+    // form of it, and reports the errors of a stale table instead of refusing it
+    let t = Table::from_files(TableFiles::read(&a.dir)?, Some(&a.dir))?;
     let points = verify::sample_points(&t, a.samples, a.seed);
     let pb = progress(points.len(), "exact points");
     let start = Instant::now();
@@ -356,20 +359,27 @@ fn print_report(r: &VerifyReport, seconds: f64) {
         "{:>26}  {:>10}  {:>10}  {:>10}",
         "error", "max", "p99", "mean"
     );
+    let power = r.frictional_power.map(|s| ("|dP_f|/(F_N V)", s));
     for (name, s) in [
         ("|dF|/F_N", r.force),
         ("|dM_z|/(F_N c)", r.spin_moment),
         ("|df| traction coeff.", r.traction_coefficient),
         ("|dT_max| [K]", r.max_temperature),
         ("|d fluid load fraction|", r.fluid_load_fraction),
-    ] {
+    ]
+    .into_iter()
+    .chain(power)
+    {
         println!(
             "{name:>26}  {:>10.3e}  {:>10.3e}  {:>10.3e}",
             s.max, s.p99, s.mean
         );
     }
     if let Some(w) = r.worst {
-        println!("worst |dF|/F_N {:.3e} at {:?}", w.force_error, w.point);
+        println!(
+            "worst |dF|/F_N {:.3e} at {:?}, semi-axes {:?} m",
+            w.force_error, w.point, w.semi_axes
+        );
     }
     println!(
         "target (p99 <= {TARGET_P99}, max <= {TARGET_MAX}): {}",
@@ -471,6 +481,7 @@ pub fn point_json(
         "peak_pressure": h.p0,
         "max_temperature": o.max_temperature,
         "fluid_load_fraction": o.fluid_load_fraction,
+        "frictional_power": o.frictional_power,
         "converged": o.converged,
         "in_range": o.in_range,
         "friction_law": params.friction.law.to_string(),

@@ -1,6 +1,7 @@
 //! Shared set-up of the FMU benchmarks.
 
 /// A table for the FMU's default parameters on a 6 × 6 grid (288 points).
+#[allow(dead_code)] // not every bench uses it
 pub fn small_table() -> std::path::PathBuf {
     let axes = wheelrail::table::Axes::from_toml_file(
         &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/small-axes.toml"),

@@ -3,6 +3,7 @@
 
 pub mod mode;
 pub mod model;
+pub mod state;
 pub mod variables;
 
 pub use model::WheelRailModel;

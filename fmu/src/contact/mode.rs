@@ -89,4 +89,41 @@ mod tests {
                 .contains("resources directory is unknown")
         );
     }
+
+    /// A table another model computed (its probe nodes disagree with the exact solver): auto mode goes on
+    /// with the exact solver and one warning naming it, table-only mode is an error.
+    #[test]
+    fn a_stale_table_is_refused_with_the_reason() {
+        let dir =
+            std::env::temp_dir().join(format!("wheelrail-fmu-stale-table-{}", std::process::id()));
+        let axes = wheelrail::table::Axes::from_toml_file(
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/small-axes.toml"),
+        )
+        .unwrap();
+        let mut params = wheelrail::Params::default();
+        params.grid.nx = 6;
+        params.grid.ny = 6;
+        let mut files = wheelrail::table::build(&params, &axes, None, &|| ()).unwrap();
+        files.write(&dir).unwrap();
+        let t = Table::load(&dir).unwrap();
+        for n in t.probe_nodes() {
+            files.outputs[0][n] *= 1.001;
+        }
+        drop(t);
+        files.write(&dir).unwrap();
+        let (table, warning) = resolve(Mode::Auto, Some(&dir)).unwrap();
+        assert!(table.is_none());
+        let warning = warning.unwrap();
+        assert!(
+            warning.contains("computed by another model")
+                && warning.contains("using the exact solver"),
+            "{warning}"
+        );
+        assert!(
+            resolve(Mode::TableOnly, Some(&dir))
+                .unwrap_err()
+                .contains("computed by another model")
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -30,6 +30,7 @@
 //! this is the slope on the side of the seed direction.
 
 use super::mode::{mode_of, resolve, table_location};
+use super::state::ContactState;
 use super::variables::*;
 use crate::fmi2::derivative::forward_difference;
 use crate::fmi2::ffi::Status;
@@ -240,15 +241,23 @@ impl Warned {
 }
 
 /// The WheelRailFriction model.
+///
+/// What it keeps between calls: the warm start (part of the FMU state, [`ContactState`]), and caches that
+/// are pure functions of the values and that state, so that a restored instance continues bit for bit:
+/// the [`Setup`] (keyed by every value it is built from), the table Jacobian (keyed by the inputs and the
+/// geometry) and the derivative base point (keyed by the values, dropped whenever the warm start it was
+/// solved from is replaced or restored). The one-time warnings logged (`Warned`) belong to the instance's
+/// log, not to the FMU state.
 pub struct WheelRailModel {
     resources: Option<PathBuf>,
     setup: Option<Box<Setup>>,
     warned: Warned,
     /// The state of the last exact solve of `calculate` (parameter `warm_start`): the next exact solve
-    /// starts from it. A cache: not part of the FMU state, forgotten by `fmi2Reset`.
+    /// starts from it. Part of the FMU state, forgotten by `fmi2Reset`.
     warm: Option<WarmStart>,
     /// The exact solver's outputs (at the derivative tolerance) for the values of the last directional
     /// derivative's unperturbed point: further seed directions at the same values need one solve each.
+    /// Solved from `warm`, so dropped whenever `warm` changes.
     derivative_base: Option<(Values, Values)>,
 }
 
@@ -343,6 +352,16 @@ impl WheelRailModel {
         };
         let result = evaluator.evaluate_at(&input(values), &geometry(values), tolerance, &mut warm);
         if warm_start && keep {
+            // an exact solve replaced the warm start the derivative base was solved from
+            if matches!(
+                &result,
+                Ok(Evaluation {
+                    by: Evaluated::Exact(_),
+                    ..
+                })
+            ) {
+                self.derivative_base = None;
+            }
             self.warm = warm;
         }
         let e = result.map_err(|e| fmu_error(e, values))?;
@@ -416,8 +435,7 @@ fn param_key(values: &Values) -> ParamKey {
     key
 }
 
-/// Writes an evaluation's outputs: the six of the table, the contact ellipse and peak pressure, the
-/// frictional power (NaN by table, which does not give it: see the variable's description), and
+/// Writes an evaluation's outputs: the six of the table, the contact ellipse and peak pressure, and
 /// `evaluation_mode`, `converged`.
 fn write_outputs(values: &mut Values, e: &Evaluation, o: &TableOutput, mode: i32) {
     for (i, x) in [
@@ -438,6 +456,8 @@ fn write_outputs(values: &mut Values, e: &Evaluation, o: &TableOutput, mode: i32
 }
 
 impl Model for WheelRailModel {
+    type State = ContactState;
+
     fn info() -> &'static ModelInfo {
         &INFO
     }
@@ -456,6 +476,17 @@ impl Model for WheelRailModel {
         self.setup = None;
         self.warned = Warned::default();
         self.warm = None;
+        self.derivative_base = None;
+    }
+
+    fn state(&self) -> ContactState {
+        ContactState {
+            warm: self.warm.clone(),
+        }
+    }
+
+    fn set_state(&mut self, state: &ContactState) {
+        self.warm = state.warm.clone();
         self.derivative_base = None;
     }
 
@@ -552,6 +583,45 @@ mod tests {
         }
         warm.reset();
         assert!(warm.warm.is_none());
+    }
+
+    #[test]
+    fn the_derivative_base_is_dropped_with_the_warm_start_it_was_solved_from() {
+        let log = Logger::new(None, false);
+        let mut v = exact();
+        v.set(GRID_SIZE, Value::Integer(12));
+        v.set(WETNESS, Value::Real(0.5));
+        v.set(CREEPAGE_LONGITUDINAL, Value::Real(0.004));
+        let d = |m: &mut WheelRailModel, v: &Values| {
+            m.directional_derivative(
+                v,
+                &[FORCE_LONGITUDINAL],
+                &[CREEPAGE_LONGITUDINAL],
+                &[1.0],
+                &log,
+            )
+            .unwrap()
+        };
+        let mut m = WheelRailModel::new(None);
+        m.calculate(&mut v, &log).unwrap();
+        let solved_from_the_step = d(&mut m, &v);
+        assert!(m.derivative_base.is_some());
+        // restored to another instance's state: solved from its warm start, as a fresh instance in it
+        let mut other = WheelRailModel::new(None);
+        let mut u = v.clone();
+        u.set(CREEPAGE_LONGITUDINAL, Value::Real(0.02));
+        u.set(NORMAL_FORCE, Value::Real(80e3));
+        other.calculate(&mut u, &log).unwrap();
+        m.set_state(&other.state());
+        let restored = d(&mut m, &v);
+        let mut fresh = WheelRailModel::new(None);
+        fresh.set_state(&other.state());
+        assert_eq!(restored, d(&mut fresh, &v));
+        assert_ne!(restored, solved_from_the_step);
+        // a step's exact solve replaces the warm start: the base goes with it
+        let mut w = v.clone();
+        m.calculate(&mut w, &log).unwrap();
+        assert!(m.warm.is_some() && m.derivative_base.is_none());
     }
 
     fn error_of(change: impl FnOnce(&mut Values)) -> String {
@@ -660,15 +730,24 @@ mod tests {
         assert_eq!(m.calculate(&mut v, &log).unwrap(), Status::Ok);
         assert_eq!(v.integer(EVALUATION_MODE), 1);
         let t = wheelrail::table::Table::load_shared(&table_dir()).unwrap();
+        let h = wheelrail::solver::normal_contact(t.params(), 100e3).unwrap();
+        let ellipse = wheelrail::table::Ellipse {
+            a: h.a,
+            b: h.b,
+            load_exponent: wheelrail::table::Ellipse::HERTZ,
+        };
         let want = t
-            .evaluate(&OperatingPoint {
-                creepage_x: 0.003,
-                creepage_y: -0.001,
-                spin: 0.2,
-                normal_force: 100e3,
-                speed: 30.0,
-                wetness: 0.1,
-            })
+            .evaluate(
+                &OperatingPoint {
+                    creepage_x: 0.003,
+                    creepage_y: -0.001,
+                    spin: 0.2,
+                    normal_force: 100e3,
+                    speed: 30.0,
+                    wetness: 0.1,
+                },
+                &ellipse,
+            )
             .unwrap();
         assert_eq!(v.real(FORCE_LONGITUDINAL), want.force_x);
         assert_eq!(v.real(SPIN_MOMENT), want.spin_moment);

@@ -12,8 +12,8 @@
 //! both 0 (the start) means "not prescribed", both > 0 define the ellipse and the curvatures are then
 //! ignored; one alone is an error. The contact's ellipse and peak pressure are outputs under other names
 //! (`contact_semi_axis_a`, `contact_semi_axis_b`, `peak_pressure`; an FMI name exists once). The frictional
-//! power is not an output yet: the table does not store it (the library gives it by the exact solver,
-//! `Evaluation::frictional_power`), and an output that only one mode can fill would be NaN in the other.
+//! power is not an output yet: tables of format version 2 store it (`Evaluation::frictional_power`), but
+//! the bundled table is of format 1, and an output that only one mode can fill would be NaN in the other.
 //!
 //! Frame and signs (docs/model.md §1): x along the track in the direction of travel for positive
 //! `rolling_speed`, y lateral, z normal into the rail. Creepages are the rigid slip velocity of the wheel

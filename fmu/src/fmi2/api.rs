@@ -410,8 +410,8 @@ pub unsafe fn get_fmu_state<M: Model>(
 ///
 /// # Safety
 /// A non-null `*slot` is a live snapshot of this FMU.
-unsafe fn store_snapshot(slot: &mut Fmi2FmuState, s: Snapshot) {
-    match unsafe { (*slot as *mut Snapshot).as_mut() } {
+unsafe fn store_snapshot<S>(slot: &mut Fmi2FmuState, s: Snapshot<S>) {
+    match unsafe { (*slot as *mut Snapshot<S>).as_mut() } {
         Some(existing) => *existing = s,
         None => *slot = Box::into_raw(Box::new(s)) as Fmi2FmuState,
     }
@@ -421,8 +421,8 @@ unsafe fn store_snapshot(slot: &mut Fmi2FmuState, s: Snapshot) {
 ///
 /// # Safety
 /// A non-null `s` is a live snapshot of this FMU.
-unsafe fn snapshot_ref<'a>(s: Fmi2FmuState) -> Result<&'a Snapshot, Failure> {
-    unsafe { (s as *const Snapshot).as_ref() }
+unsafe fn snapshot_ref<'a, S>(s: Fmi2FmuState) -> Result<&'a Snapshot<S>, Failure> {
+    unsafe { (s as *const Snapshot<S>).as_ref() }
         .ok_or_else(|| Failure::Rejected("argument FMUstate is a null pointer".into()))
 }
 
@@ -434,7 +434,7 @@ pub unsafe fn set_fmu_state<M: Model>(c: Fmi2Component, s: Fmi2FmuState) -> Fmi2
     // SAFETY: see the module documentation.
     unsafe {
         call::<M>(c, "fmi2SetFMUstate", state::RESET, |inst| {
-            inst.restore(snapshot_ref(s)?)
+            inst.restore(snapshot_ref::<M::State>(s)?)
         })
     }
 }
@@ -452,7 +452,7 @@ pub unsafe fn free_fmu_state<M: Model>(
         call::<M>(c, "fmi2FreeFMUstate", state::RESET, |_| {
             let slot = out(state_ptr, "FMUstate")?;
             if !slot.is_null() {
-                drop(Box::from_raw(*slot as *mut Snapshot));
+                drop(Box::from_raw(*slot as *mut Snapshot<M::State>));
                 *slot = null_mut();
             }
             Ok(Status::Ok)
@@ -472,7 +472,7 @@ pub unsafe fn serialized_fmu_state_size<M: Model>(
     // SAFETY: see the module documentation.
     unsafe {
         call::<M>(c, "fmi2SerializedFMUstateSize", state::RESET, |_| {
-            let bytes = snapshot_ref(s)?.to_bytes(&description::guid(M::info()));
+            let bytes = snapshot_ref::<M::State>(s)?.to_bytes(&description::guid(M::info()));
             *out(size, "size")? = bytes.len();
             Ok(Status::Ok)
         })
@@ -492,7 +492,7 @@ pub unsafe fn serialize_fmu_state<M: Model>(
     // SAFETY: see the module documentation.
     unsafe {
         call::<M>(c, "fmi2SerializeFMUstate", state::RESET, |_| {
-            let bytes = snapshot_ref(s)?.to_bytes(&description::guid(M::info()));
+            let bytes = snapshot_ref::<M::State>(s)?.to_bytes(&description::guid(M::info()));
             if bytes.len() != size {
                 return Err(Failure::Rejected(format!(
                     "buffer size {size} differs from the serialized size {}",
@@ -522,8 +522,9 @@ pub unsafe fn deserialize_fmu_state<M: Model>(
             let bytes = slice(buffer as *const u8, size, "serializedState[]")?;
             let slot = out(state_ptr, "FMUstate")?;
             let info = M::info();
-            let s = Snapshot::from_bytes(bytes, &description::guid(info), info.variables)
-                .map_err(Failure::Rejected)?;
+            let s =
+                Snapshot::<M::State>::from_bytes(bytes, &description::guid(info), info.variables)
+                    .map_err(Failure::Rejected)?;
             store_snapshot(slot, s);
             Ok(Status::Ok)
         })

@@ -236,21 +236,23 @@ impl<M: Model> Instance<M> {
     }
 
     /// A snapshot of the instance (`fmi2GetFMUstate`).
-    pub fn snapshot(&self) -> Snapshot {
+    pub fn snapshot(&self) -> Snapshot<M::State> {
         Snapshot {
             values: self.values.clone(),
             stale: self.stale,
             time: self.time,
             state: self.state,
+            model: self.model.state(),
         }
     }
 
-    /// Restores a snapshot (`fmi2SetFMUstate`), state-machine state included.
-    pub fn restore(&mut self, s: &Snapshot) -> Outcome {
+    /// Restores a snapshot (`fmi2SetFMUstate`), state-machine state and the model's state included.
+    pub fn restore(&mut self, s: &Snapshot<M::State>) -> Outcome {
         self.values = s.values.clone();
         self.stale = s.stale;
         self.time = s.time;
         self.state = s.state;
+        self.model.set_state(&s.model);
         Ok(Status::Ok)
     }
 

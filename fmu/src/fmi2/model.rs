@@ -4,6 +4,7 @@
 
 use super::ffi::Status;
 use super::logging::Logger;
+use super::snapshot::ModelState;
 use super::variables::{Values, Variable};
 use std::path::PathBuf;
 
@@ -58,9 +59,15 @@ pub struct ModelInfo {
     pub default_experiment: DefaultExperiment,
 }
 
-/// A model behind the generic FMI 2.0 co-simulation layer. Every output is a function of the parameters and
-/// the current inputs (no states): the layer recomputes outputs whenever a value changed.
+/// A model behind the generic FMI 2.0 co-simulation layer. Every output is a function of the parameters,
+/// the current inputs and the model's [`Model::State`] (no continuous states): the layer recomputes outputs
+/// whenever a value changed.
 pub trait Model: Sized {
+    /// What the model remembers between calls that influences later outputs (an inner solver's warm
+    /// start): part of the FMU state. Anything else the model keeps (caches) must be a pure function of
+    /// the values and this state.
+    type State: ModelState;
+
     /// The model description.
     fn info() -> &'static ModelInfo;
 
@@ -69,6 +76,14 @@ pub trait Model: Sized {
 
     /// Forgets what the model remembers across calls (issued one-time warnings, caches); `fmi2Reset`.
     fn reset(&mut self);
+
+    /// The model's current state (`fmi2GetFMUstate`).
+    fn state(&self) -> Self::State;
+
+    /// Continues from `state`, taken of this or another instance of the model, perhaps with other
+    /// parameters (`fmi2SetFMUstate`): later outputs are bit for bit those the instance it was taken of
+    /// gives for the same calls.
+    fn set_state(&mut self, state: &Self::State);
 
     /// Computes every output from the parameters and inputs in `values` and writes them into `values`.
     /// Returns `Status::Ok` or `Status::Warning` (after logging the warning); `Err` is a message for

@@ -110,9 +110,12 @@ fn toy_eval(values: &Values) -> Result<Values, String> {
 }
 
 impl Model for Toy {
+    type State = ();
     fn info() -> &'static ModelInfo {
         &INFO
     }
+    fn state(&self) {}
+    fn set_state(&mut self, _: &()) {}
     fn new(_: Option<std::path::PathBuf>) -> Self {
         Toy { calls: 0 }
     }

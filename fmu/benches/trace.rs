@@ -1,0 +1,494 @@
+//! The MBS trace through the FMU (issue 13): one wheel 10 s at 1 kHz through a curve
+//! (`tools/mbs_trace.py`, written to target/mbs_trace.csv by `make bench`; another file: environment
+//! variable `WHEELRAIL_TRACE`), every step through the exported C functions on one thread: set the row's
+//! inputs and `fmi2DoStep` (timed together, as a master pays them), then `force_longitudinal`,
+//! `force_lateral` and `evaluation_mode` (not timed). The bundled table (fmu/resources/table) in
+//! `mode` 1 (table only), 0 (auto) and 2 (exact only, the reference), default grid, warm start on.
+//!
+//! Per mode: how many steps the FMU evaluated by table and by the exact solver, and how many it refused
+//! (`fmi2Error`; mode 1 refuses a geometry other than its table's: the pass goes on in a fresh
+//! instance); the time per step (mean, p99, max over the evaluated steps, by path too; passes are
+//! repeated in fresh instances while they add up to less than [`TIMING_BUDGET`]); the force error
+//! against mode 2 at every evaluated step, |ΔF_x|/F_N, |ΔF_y|/F_N and |ΔF|/F_N (mean, p99, max; over all
+//! steps, the table's and the exact solver's). Written to target/bench/mbs_trace.json for `tools/bench_report.py`.
+//! Criterion then times whole passes over the steps a mode evaluates (criterion group `mbs_trace`,
+//! throughput = steps per pass) for the modes whose pass takes at most [`CRITERION_PASS_BUDGET`]: a
+//! mode whose steps fall back to the exact solver (milliseconds each) is timed by its single pass only.
+//! Run with `cargo bench -p wheelrail-fmu --bench trace`.
+
+use WheelRailFriction::contact::variables::{
+    EVALUATION_MODE, FORCE_LATERAL, FORCE_LONGITUDINAL, VARIABLES,
+};
+use WheelRailFriction::exports::*;
+use WheelRailFriction::fmi2::ffi::Fmi2Component;
+use WheelRailFriction::fmi2::variables::Causality;
+use criterion::{Criterion, SamplingMode, Throughput, criterion_group, criterion_main};
+use serde_json::{Value, json};
+use std::ffi::CString;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+use wheelrail::table::verify::Stats;
+
+mod common;
+use common::{Setup, instance};
+
+/// Timed passes of one mode are repeated while their total stays below this.
+const TIMING_BUDGET: Duration = Duration::from_secs(1);
+/// … and at most this many passes.
+const MAX_TIMING_PASSES: usize = 100;
+/// The longest pass criterion repeats (it takes at least 11 passes).
+const CRITERION_PASS_BUDGET: Duration = Duration::from_millis(250);
+/// `fmi2Error`.
+const FMI2_ERROR: i32 = 3;
+
+/// The trace: per row the time and the FMU inputs it sets.
+struct Trace {
+    path: PathBuf,
+    /// FMU input names of the columns after `time`.
+    names: Vec<String>,
+    /// Their value references.
+    vrs: Vec<u32>,
+    times: Vec<f64>,
+    /// Input values per row, in the order of `names`.
+    rows: Vec<Vec<f64>>,
+    /// The column of `normal_force` in `rows`.
+    normal_force: usize,
+    /// The communication step [s].
+    step: f64,
+}
+
+impl Trace {
+    /// Reads a CSV trace: a header `time,<FMU input>,…`, then one row per step at a uniform time step.
+    fn load(path: &Path) -> Trace {
+        let text = std::fs::read_to_string(path).unwrap_or_else(|e| {
+            panic!(
+                "{}: {e}; write it with `python3 tools/mbs_trace.py` (`make bench` does)",
+                path.display()
+            )
+        });
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
+        assert_eq!(header[0], "time", "the first column of {}", path.display());
+        let names: Vec<String> = header[1..].iter().map(|s| s.to_string()).collect();
+        let vrs = names
+            .iter()
+            .map(|n| {
+                let v = VARIABLES
+                    .iter()
+                    .find(|v| v.name == n)
+                    .unwrap_or_else(|| panic!("column {n} is no FMU variable"));
+                assert_eq!(v.causality, Causality::Input, "column {n} is no FMU input");
+                v.vr
+            })
+            .collect();
+        let normal_force = names
+            .iter()
+            .position(|n| n == "normal_force")
+            .expect("a normal_force column");
+        let (mut times, mut rows) = (Vec::new(), Vec::new());
+        for (i, line) in lines.enumerate() {
+            let values: Vec<f64> = line
+                .split(',')
+                .map(|x| {
+                    x.parse()
+                        .unwrap_or_else(|e| panic!("row {}: {x:?}: {e}", i + 1))
+                })
+                .collect();
+            assert_eq!(values.len(), header.len(), "row {}", i + 1);
+            times.push(values[0]);
+            rows.push(values[1..].to_vec());
+        }
+        assert!(
+            times.len() >= 2,
+            "{} has fewer than two rows",
+            path.display()
+        );
+        let step = times[1] - times[0];
+        for w in times.windows(2) {
+            assert!(
+                ((w[1] - w[0]) - step).abs() <= 1e-9 * step.max(1.0),
+                "{}: the time step is not uniform at t = {}",
+                path.display(),
+                w[0]
+            );
+        }
+        Trace {
+            path: path.to_path_buf(),
+            names,
+            vrs,
+            times,
+            rows,
+            normal_force,
+            step,
+        }
+    }
+}
+
+/// One mode of the FMU.
+#[derive(Clone, Copy)]
+struct Mode {
+    code: i32,
+    name: &'static str,
+}
+
+const TABLE_ONLY: Mode = Mode {
+    code: 1,
+    name: "table only",
+};
+const AUTO: Mode = Mode {
+    code: 0,
+    name: "auto",
+};
+const EXACT: Mode = Mode {
+    code: 2,
+    name: "exact",
+};
+
+/// What one evaluated step gave.
+#[derive(Clone, Copy)]
+struct Outcome {
+    force_x: f64,
+    force_y: f64,
+    /// `evaluation_mode`: 1 table, 2 exact.
+    path: i32,
+    /// Time of setting the inputs and `fmi2DoStep` [ns].
+    nanos: f64,
+}
+
+/// The bench's instances: the bundled table, default grid, warm start. An instance that has evaluated by
+/// the table is kept alive meanwhile: the table is loaded once per process while any instance holds it,
+/// as in a master that keeps its instances, so freeing the last one would load it again for the next.
+struct Instances {
+    table: CString,
+    keeper: Fmi2Component,
+}
+
+impl Instances {
+    fn new() -> Instances {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/table");
+        let mut instances = Instances {
+            table: CString::new(dir.to_str().expect("utf-8 path")).expect("path"),
+            keeper: std::ptr::null_mut(),
+        };
+        instances.keeper = instances.fresh(TABLE_ONLY);
+        // a step at the start values (the table's geometry) loads the table
+        assert_eq!(unsafe { fmi2DoStep(instances.keeper, 0.0, 1e-3, 1) }, 0);
+        instances
+    }
+
+    /// A fresh initialised instance in `mode`.
+    fn fresh(&self, mode: Mode) -> Fmi2Component {
+        unsafe {
+            instance(&Setup {
+                mode: mode.code,
+                grid: WheelRailFriction::contact::variables::DEFAULT_GRID_SIZE,
+                table: Some(&self.table),
+                wetness: 0.0,
+                warm: true,
+            })
+        }
+    }
+}
+
+impl Drop for Instances {
+    fn drop(&mut self) {
+        unsafe { fmi2FreeInstance(self.keeper) };
+    }
+}
+
+/// Sets the inputs of row `k` and does its step; returns the status and the time both took.
+///
+/// # Safety
+/// `fmu` is a live instance at a communication point.
+unsafe fn step(fmu: Fmi2Component, trace: &Trace, k: usize) -> (i32, Duration) {
+    let start = Instant::now();
+    let status = unsafe {
+        let set = fmi2SetReal(
+            fmu,
+            trace.vrs.as_ptr(),
+            trace.vrs.len(),
+            trace.rows[k].as_ptr(),
+        );
+        assert_eq!(set, 0, "fmi2SetReal of row {k}");
+        fmi2DoStep(fmu, trace.times[k], trace.step, 1)
+    };
+    (status, start.elapsed())
+}
+
+/// One pass over `steps` (row indices, in order) in a fresh instance of `mode`: per step its outcome,
+/// None where the FMU refused it (then the pass goes on in another fresh instance). Errors other than
+/// mode 1's refusals stop the bench.
+fn pass(instances: &Instances, mode: Mode, trace: &Trace, steps: &[usize]) -> Vec<Option<Outcome>> {
+    let mut fmu = instances.fresh(mode);
+    let outcomes = steps
+        .iter()
+        .map(|&k| unsafe {
+            let (status, time) = step(fmu, trace, k);
+            if status == FMI2_ERROR {
+                assert_eq!(
+                    mode.code, TABLE_ONLY.code,
+                    "mode {} failed at row {k} (t = {} s)",
+                    mode.name, trace.times[k]
+                );
+                fmi2FreeInstance(fmu);
+                fmu = instances.fresh(mode);
+                return None;
+            }
+            assert!(status <= 1, "fmi2DoStep status {status} at row {k}");
+            let vrs = [FORCE_LONGITUDINAL as u32, FORCE_LATERAL as u32];
+            let mut forces = [0.0; 2];
+            assert_eq!(fmi2GetReal(fmu, vrs.as_ptr(), 2, forces.as_mut_ptr()), 0);
+            let mut path = 0;
+            assert_eq!(
+                fmi2GetInteger(fmu, &(EVALUATION_MODE as u32), 1, &mut path),
+                0
+            );
+            Some(Outcome {
+                force_x: forces[0],
+                force_y: forces[1],
+                path,
+                nanos: time.as_nanos() as f64,
+            })
+        })
+        .collect();
+    unsafe { fmi2FreeInstance(fmu) };
+    outcomes
+}
+
+/// The time of each step of one pass over `steps` (row indices, in order; none refused) in a fresh
+/// instance of `mode` (instance set-up not timed).
+fn timed_pass(instances: &Instances, mode: Mode, trace: &Trace, steps: &[usize]) -> Vec<Duration> {
+    let fmu = instances.fresh(mode);
+    let times = steps
+        .iter()
+        .map(|&k| {
+            let (status, time) = unsafe { step(fmu, trace, k) };
+            assert!(status <= 1, "fmi2DoStep status {status} at row {k}");
+            time
+        })
+        .collect();
+    unsafe { fmi2FreeInstance(fmu) };
+    times
+}
+
+/// `Stats` as JSON.
+fn stats(values: &[f64]) -> Value {
+    let s = Stats::of(values);
+    json!({"mean": s.mean, "p99": s.p99, "max": s.max, "count": values.len()})
+}
+
+/// The force errors of `outcomes` against `reference` at the evaluated steps `keep` selects, relative to
+/// |F_N| of each step.
+fn errors(
+    trace: &Trace,
+    outcomes: &[Option<Outcome>],
+    reference: &[Option<Outcome>],
+    keep: impl Fn(&Outcome) -> bool,
+) -> Value {
+    let (mut dx, mut dy, mut d) = (Vec::new(), Vec::new(), Vec::new());
+    for (k, (o, r)) in outcomes.iter().zip(reference).enumerate() {
+        if let (Some(o), Some(r)) = (o, r)
+            && keep(o)
+        {
+            let f = trace.rows[k][trace.normal_force].abs();
+            let (ex, ey) = (o.force_x - r.force_x, o.force_y - r.force_y);
+            dx.push(ex.abs() / f);
+            dy.push(ey.abs() / f);
+            d.push(ex.hypot(ey) / f);
+        }
+    }
+    json!({"force_x": stats(&dx), "force_y": stats(&dy), "force": stats(&d)})
+}
+
+/// The measurement of one mode: a first pass over the whole trace (outcomes, errors), then timing passes
+/// over the steps it evaluated while they fit [`TIMING_BUDGET`]; its JSON and the evaluated steps.
+fn measure(
+    instances: &Instances,
+    mode: Mode,
+    trace: &Trace,
+    reference: Option<&[Option<Outcome>]>,
+) -> (Vec<Option<Outcome>>, Vec<usize>, Value) {
+    let all: Vec<usize> = (0..trace.rows.len()).collect();
+    let first = pass(instances, mode, trace, &all);
+    let evaluated: Vec<usize> = all
+        .iter()
+        .copied()
+        .filter(|&k| first[k].is_some())
+        .collect();
+    let mut times: Vec<(i32, f64)> = first.iter().flatten().map(|o| (o.path, o.nanos)).collect();
+    let mut spent: f64 = times.iter().map(|t| t.1).sum::<f64>() * 1e-9;
+    let mut passes = 1;
+    while !evaluated.is_empty() && spent < TIMING_BUDGET.as_secs_f64() && passes < MAX_TIMING_PASSES
+    {
+        for (&k, time) in evaluated
+            .iter()
+            .zip(timed_pass(instances, mode, trace, &evaluated))
+        {
+            times.push((first[k].map_or(0, |o| o.path), time.as_nanos() as f64));
+            spent += time.as_secs_f64();
+        }
+        passes += 1;
+    }
+    let by = |p: i32| first.iter().flatten().filter(|o| o.path == p).count();
+    let time_of = |p: Option<i32>| -> Vec<f64> {
+        times
+            .iter()
+            .filter(|t| p.is_none_or(|p| t.0 == p))
+            .map(|t| t.1)
+            .collect()
+    };
+    let mut report = json!({
+        "mode": mode.code,
+        "name": mode.name,
+        "steps": trace.rows.len(),
+        "evaluated": evaluated.len(),
+        "refused": trace.rows.len() - evaluated.len(),
+        "by_table": by(1),
+        "by_exact": by(2),
+        "timing_passes": passes,
+        "time_per_step_ns": stats(&time_of(None)),
+        "time_per_step_ns_by_table": stats(&time_of(Some(1))),
+        "time_per_step_ns_by_exact": stats(&time_of(Some(2))),
+    });
+    if let Some(r) = reference {
+        report["error_vs_exact"] = json!({
+            "all_steps": errors(trace, &first, r, |_| true),
+            "table_steps": errors(trace, &first, r, |o| o.path == 1),
+            "exact_steps": errors(trace, &first, r, |o| o.path == 2),
+        });
+    }
+    (first, evaluated, report)
+}
+
+/// The time two `Instant::now` calls take apart (median of many) [ns]: the timer's share of a step time.
+fn timer_overhead() -> f64 {
+    let mut t: Vec<f64> = (0..10_001)
+        .map(|_| {
+            let s = Instant::now();
+            s.elapsed().as_nanos() as f64
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t[t.len() / 2]
+}
+
+/// /proc/loadavg (the machine's load while measuring; empty where there is none).
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .unwrap_or_default()
+        .trim()
+        .to_string()
+}
+
+fn mbs_trace(c: &mut Criterion) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let path = std::env::var_os("WHEELRAIL_TRACE")
+        .map_or_else(|| root.join("target/mbs_trace.csv"), PathBuf::from);
+    let trace = Trace::load(&path);
+    let load_start = load_average();
+    let instances = Instances::new();
+    println!(
+        "MBS trace {}: {} steps of {} s, inputs {}",
+        trace.path.display(),
+        trace.rows.len(),
+        trace.step,
+        trace.names.join(", ")
+    );
+    let (reference, _, exact) = measure(&instances, EXACT, &trace, None);
+    let mut modes = vec![exact];
+    let mut criterion_runs = Vec::new();
+    for mode in [TABLE_ONLY, AUTO] {
+        let (outcomes, evaluated, report) = measure(&instances, mode, &trace, Some(&reference));
+        let first_pass: f64 = outcomes.iter().flatten().map(|o| o.nanos * 1e-9).sum();
+        let by_exact = outcomes.iter().flatten().filter(|o| o.path == 2).count();
+        criterion_runs.push((mode, evaluated, first_pass, by_exact));
+        modes.push(report);
+    }
+    for m in &modes {
+        let t = &m["time_per_step_ns"];
+        println!(
+            "  mode {} ({}): {} steps evaluated ({} by table, {} by exact), {} refused; time per step mean {:.3} µs, p99 {:.3} µs",
+            m["mode"],
+            m["name"].as_str().unwrap_or(""),
+            m["evaluated"],
+            m["by_table"],
+            m["by_exact"],
+            m["refused"],
+            t["mean"].as_f64().unwrap_or(f64::NAN) * 1e-3,
+            t["p99"].as_f64().unwrap_or(f64::NAN) * 1e-3,
+        );
+        if let Some(e) = m.get("error_vs_exact") {
+            println!(
+                "    |ΔF|/F_N against mode 2: mean {:.2e}, p99 {:.2e}, max {:.2e}",
+                e["all_steps"]["force"]["mean"].as_f64().unwrap_or(f64::NAN),
+                e["all_steps"]["force"]["p99"].as_f64().unwrap_or(f64::NAN),
+                e["all_steps"]["force"]["max"].as_f64().unwrap_or(f64::NAN),
+            );
+        }
+    }
+    let mut group = c.benchmark_group("mbs_trace");
+    group
+        .sample_size(10)
+        .sampling_mode(SamplingMode::Flat)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
+    let mut criterion = Vec::new();
+    for (mode, evaluated, pass_time, by_exact) in criterion_runs {
+        let budget = CRITERION_PASS_BUDGET.as_secs_f64();
+        let note = if evaluated.is_empty() {
+            "skipped: the mode evaluated no step".to_string()
+        } else if pass_time > budget {
+            format!(
+                "skipped: one pass takes {pass_time:.1} s (> {budget} s; {by_exact} of its {} steps by the exact solver): timed by its single pass",
+                evaluated.len()
+            )
+        } else {
+            group.throughput(Throughput::Elements(evaluated.len() as u64));
+            group.bench_function(mode.name, |b| {
+                b.iter_custom(|iters| {
+                    (0..iters)
+                        .flat_map(|_| timed_pass(&instances, mode, &trace, &evaluated))
+                        .sum()
+                })
+            });
+            "run".to_string()
+        };
+        println!("  criterion mbs_trace/{}: {note}", mode.name);
+        criterion.push(json!({
+            "id": format!("mbs_trace/{}", mode.name),
+            "mode": mode.code,
+            "steps_per_iteration": evaluated.len(),
+            "status": note,
+        }));
+    }
+    group.finish();
+    let report = json!({
+        "trace": {
+            "path": trace.path.display().to_string(),
+            "steps": trace.rows.len(),
+            "step_size": trace.step,
+            "inputs": trace.names,
+        },
+        "threads": 1,
+        "timer_overhead_ns": timer_overhead(),
+        "load_average_start": load_start,
+        "load_average_end": load_average(),
+        "modes": modes,
+        "criterion": criterion,
+    });
+    let out = root.join("target/bench");
+    std::fs::create_dir_all(&out).expect("target/bench");
+    std::fs::write(
+        out.join("mbs_trace.json"),
+        serde_json::to_string_pretty(&report).expect("json"),
+    )
+    .expect("mbs_trace.json");
+}
+
+criterion_group! {
+    name = benches;
+    // no plots: criterion's plotters backend needs system fonts
+    config = Criterion::default().without_plots();
+    targets = mbs_trace
+}
+criterion_main!(benches);
