@@ -108,8 +108,6 @@ pub enum Stage {
     ThermalInfluenceCoefficient,
     /// The table of moving-source influence coefficients of a grid.
     ThermalInfluenceMatrix,
-    /// The coupled fixed-point iteration.
-    CoupledSolver,
     /// The reproduction of the paper's figures.
     Reproduction,
 }
@@ -125,7 +123,6 @@ impl std::fmt::Display for Stage {
             Stage::ThermalConvolution => "thermal convolution",
             Stage::ThermalInfluenceCoefficient => "thermal influence coefficient",
             Stage::ThermalInfluenceMatrix => "thermal influence matrix",
-            Stage::CoupledSolver => "coupled solver",
             Stage::Reproduction => "reproduction",
         })
     }
@@ -203,7 +200,6 @@ mod stage_tests {
                 "thermal influence coefficient",
             ),
             (Stage::ThermalInfluenceMatrix, "thermal influence matrix"),
-            (Stage::CoupledSolver, "coupled solver"),
             (Stage::Reproduction, "reproduction"),
         ] {
             let e = Error::Numerical {

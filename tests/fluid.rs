@@ -396,6 +396,10 @@ fn a_point_whose_film_has_no_solution_is_reported_unconverged() {
     assert!(!s.report.converged && s.report.iterations < p.solver.max_iterations);
     let g = &s.global;
     assert!(g.force_x.is_finite() && g.force_y.is_finite() && g.max_temperature.unwrap() > 293.0);
+    // a table build does not retry a stalled point: more iterations would solve the same film
+    let built = wheelrail::table::solve_with_retry(&p, &pt, None).unwrap();
+    assert_eq!(built.report.iterations, s.report.iterations);
+    assert_eq!(built.global.force_x.to_bits(), g.force_x.to_bits());
     let converged = solve(
         &p,
         &OperatingPoint {

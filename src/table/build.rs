@@ -33,14 +33,16 @@ use super::file::{
 };
 use crate::error::{Error, Result};
 use crate::params::{FrictionLaw, OperatingPoint, Params};
-use crate::solver::{Solution, WarmStart, solve, solve_from};
+use crate::solver::{Solution, Termination, WarmStart, solve, solve_from};
 use rayon::prelude::*;
 use std::path::Path;
 use std::time::Instant;
 
 /// Solves one point exactly (from `warm`, a neighbouring point's state, if given; if that fails, cold); if
-/// the coupled iteration does not converge, once more from a cold start with four times the iteration and fluid-sweep limits and
-/// half the initial relaxation. The returned solution may still be unconverged (its report says so).
+/// the coupled iteration reached its limit without converging, once more from a cold start with four times
+/// the iteration and fluid-sweep limits and half the initial relaxation. A stalled iteration (the film has
+/// no solution at the settled temperature, [`Termination::Stalled`]) is not retried: more iterations solve
+/// the same film. The returned solution may still be unconverged (its report says so).
 pub fn solve_with_retry(
     params: &Params,
     point: &OperatingPoint,
@@ -51,7 +53,7 @@ pub fn solve_with_retry(
         Err(_) if warm.is_some() => solve(params, point)?,
         r => r?,
     };
-    if s.report.converged {
+    if s.report.converged || matches!(s.report.termination, Termination::Stalled { .. }) {
         return Ok(s);
     }
     let mut retry = params.clone();

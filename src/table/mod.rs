@@ -22,7 +22,7 @@ pub mod interp;
 pub mod verify;
 
 pub use axes::{Axes, AxesSpec, Axis, AxisSpec, DIMENSIONS, DIMS, Interpolation, Spacing};
-pub use build::{build, merge, tabulate};
+pub use build::{build, merge, solve_with_retry, tabulate};
 pub use coords::{Coordinates, Ellipse};
 pub use file::{OUTPUT_INFO, OUTPUTS, ShardRecord, Sidecar, TableFiles, fingerprint};
 
