@@ -28,6 +28,11 @@
 //! [`DERIVATIVE_TOLERANCE`], so that solver noise (relative error ≈ tolerance/step = 10⁻⁴) stays far below
 //! the step. Where a cell of the discretised contact switches between stick and slip, F(ξ) has a kink and
 //! this is the slope on the side of the seed direction.
+//!
+//! **Warm start** (`warm_start`): in Co-Simulation each step's exact solve starts from the previous
+//! step's final state ([`Model::calculate`]); in Model Exchange every evaluation starts from the state of
+//! the last accepted point and leaves it ([`Model::calculate_trial`]), so that an integrator's repeated
+//! evaluations give the same outputs for the same inputs, and [`Model::accept`] advances it.
 
 use super::mode::{mode_of, resolve, table_location};
 use super::state::ContactState;
