@@ -314,6 +314,7 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
         api::unsupported::<M>(
             c,
             "fmi2SetRealInputDerivatives",
+            state::SET_INPUT_DERIVATIVES,
             "canInterpolateInputs is false",
         )
     }
@@ -332,6 +333,7 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
         api::unsupported::<M>(
             c,
             "fmi2GetRealOutputDerivatives",
+            state::GET_OUTPUT_DERIVATIVES,
             "maxOutputDerivativeOrder is 0",
         )
     }

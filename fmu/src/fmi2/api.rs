@@ -569,14 +569,20 @@ pub unsafe fn get_directional_derivative<M: Model>(
     }
 }
 
-/// A function this FMU does not provide (its capability flag is false): logged and `fmi2Error`.
+/// A function this FMU does not provide (its capability flag is false): logged and `fmi2Error`; called in
+/// a state outside `allowed` or in an instance of the other interface type, it is an illegal call instead.
 ///
 /// # Safety
 /// See the module documentation.
-pub unsafe fn unsupported<M: Model>(c: Fmi2Component, function: &str, reason: &str) -> Fmi2StatusC {
+pub unsafe fn unsupported<M: Model>(
+    c: Fmi2Component,
+    function: &str,
+    allowed: Mask,
+    reason: &str,
+) -> Fmi2StatusC {
     // SAFETY: see the module documentation.
     unsafe {
-        call::<M>(c, function, state::ANY, |_| {
+        call::<M>(c, function, allowed, |_| {
             Err(Failure::Rejected(format!("not supported ({reason})")))
         })
     }

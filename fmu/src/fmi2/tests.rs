@@ -433,10 +433,12 @@ fn strings_booleans_status_and_derivatives() {
             api::unsupported::<Toy>(
                 c,
                 "fmi2SetRealInputDerivatives",
+                state::SET_INPUT_DERIVATIVES,
                 "canInterpolateInputs=false"
             ),
             ERROR
         );
+        assert!(last_error(&seen).contains("not supported (canInterpolateInputs=false)"));
         api::free_instance::<Toy>(c);
     }
 }
@@ -615,6 +617,16 @@ fn model_exchange_refuses_illegal_sequences_and_co_simulation_functions() {
             ERROR
         );
         assert_eq!(api::cancel_step::<Toy>(c), ERROR);
+        assert_eq!(
+            api::unsupported::<Toy>(
+                c,
+                "fmi2GetRealOutputDerivatives",
+                state::GET_OUTPUT_DERIVATIVES,
+                "x"
+            ),
+            ERROR
+        );
+        assert!(last_error(&seen).contains("not a function of Model Exchange"));
         // event mode: no integrator step to complete
         assert_eq!(completed_step(c), ERROR);
         assert!(last_error(&seen).contains("fmi2CompletedIntegratorStep: Illegal call sequence"));
