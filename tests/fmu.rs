@@ -8,6 +8,7 @@
 //! same compiler that links Rust programs) and load it like the FMU.
 //!
 //! Value references and the GUID are read from the committed `modelDescription/modelDescription.xml`.
+//! The Model Exchange interface of the same library is tested in `fmu/model_exchange.rs`.
 
 use std::collections::HashMap;
 use std::ffi::{CStr, CString, c_char, c_int, c_void};
@@ -328,6 +329,11 @@ impl Fmu {
     /// A co-simulation instance with the C logger, all log categories on, and `resources` as resource
     /// location (none if `None`).
     fn new(name: &str, resources: Option<&Path>) -> Fmu {
+        Fmu::instantiate(name, resources, 1)
+    }
+
+    /// An instance of `fmu_type` (0 Model Exchange, 1 Co-Simulation), otherwise as [`Fmu::new`].
+    fn instantiate(name: &str, resources: Option<&Path>, fmu_type: c_int) -> Fmu {
         let log = Arc::new(Mutex::new(Vec::new()));
         let env = Box::new(LogEnv {
             sink: collect,
@@ -345,7 +351,7 @@ impl Fmu {
         let c = unsafe {
             (fmi().instantiate)(
                 name.as_ptr(),
-                1,
+                fmu_type,
                 fmi().guid.as_ptr(),
                 uri.as_ref().map_or(null(), |u| u.as_ptr()),
                 &*callbacks,
@@ -748,12 +754,18 @@ fn instantiation_checks_guid_and_type() {
             (fmi().instantiate)(c"g".as_ptr(), 1, c"{wrong}".as_ptr(), null(), &cb, 0, 0).is_null()
         );
         assert!(
-            (fmi().instantiate)(c"g".as_ptr(), 0, fmi().guid.as_ptr(), null(), &cb, 0, 0).is_null()
+            (fmi().instantiate)(c"g".as_ptr(), 2, fmi().guid.as_ptr(), null(), &cb, 0, 0).is_null()
         );
     }
     let msgs = log.lock().unwrap().clone();
     assert!(msgs[0].text.contains("fmuGUID does not match") && msgs[0].instance == "g");
-    assert!(msgs[1].text.contains("Co-Simulation only") && msgs[1].category == "logStatusError");
+    assert!(
+        msgs[1]
+            .text
+            .contains("fmuType 2 is neither fmi2ModelExchange (0) nor fmi2CoSimulation (1)")
+            && msgs[1].category == "logStatusError",
+        "{msgs:?}"
+    );
 }
 
 #[test]
@@ -1156,3 +1168,5 @@ fn derivatives_after_a_restore_or_a_return_to_the_same_values_are_those_of_the_s
     // the warm starts differ, so the solves do (in the last digits)
     assert_ne!(again, first);
 }
+
+mod model_exchange;

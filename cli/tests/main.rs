@@ -1,6 +1,7 @@
-//! Integration tests of the command line, the paper reproduction and table building through the CLI (one
-//! binary).
+//! Integration tests of the command line, the FMU packager, the paper reproduction and table building
+//! through the CLI (one binary).
 
 mod cli;
+mod package;
 mod paper;
 mod table;

@@ -1,5 +1,5 @@
-//! The exported FMI 2.0 functions of WheelRailFriction (all common and co-simulation functions of
-//! `fmi2Functions.h`). Each body is one call into the generic layer [`crate::fmi2::api`].
+//! The exported FMI 2.0 functions of WheelRailFriction (all common, Co-Simulation and Model Exchange
+//! functions of `fmi2Functions.h`). Each body is one call into the generic layer [`crate::fmi2::api`].
 //!
 //! # Safety
 //! The importer must follow the FMI 2.0 standard (valid pointers, array lengths, one thread per instance).
@@ -9,6 +9,7 @@
 use crate::contact::WheelRailModel as M;
 use crate::fmi2::api;
 use crate::fmi2::ffi::*;
+use crate::fmi2::state;
 use crate::fmi2::variables::{Type, Value};
 use std::ffi::c_int;
 
@@ -85,7 +86,7 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: Fmi2Component) {
     unsafe { api::free_instance::<M>(c) }
 }
 
-/// `fmi2SetupExperiment` (tolerance and stop time are not used).
+/// `fmi2SetupExperiment` (tolerance and stop time are not used: the model's own solver tolerance applies).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SetupExperiment(
     c: Fmi2Component,
@@ -313,6 +314,7 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
         api::unsupported::<M>(
             c,
             "fmi2SetRealInputDerivatives",
+            state::SET_INPUT_DERIVATIVES,
             "canInterpolateInputs is false",
         )
     }
@@ -331,6 +333,7 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
         api::unsupported::<M>(
             c,
             "fmi2GetRealOutputDerivatives",
+            state::GET_OUTPUT_DERIVATIVES,
             "maxOutputDerivativeOrder is 0",
         )
     }
@@ -413,4 +416,133 @@ pub unsafe extern "C" fn fmi2GetStringStatus(
     value: *mut Fmi2String,
 ) -> Fmi2StatusC {
     unsafe { api::get_status::<M, _>(c, "fmi2GetStringStatus", kind, value, |_, _| None) }
+}
+
+/// `fmi2SetTime` (Model Exchange).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetTime(c: Fmi2Component, time: Fmi2Real) -> Fmi2StatusC {
+    unsafe { api::set_time::<M>(c, time) }
+}
+
+/// `fmi2SetContinuousStates` (Model Exchange): there are no continuous states (`nx` must be 0).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetContinuousStates(
+    c: Fmi2Component,
+    _x: *const Fmi2Real,
+    nx: usize,
+) -> Fmi2StatusC {
+    unsafe {
+        api::no_states::<M>(
+            c,
+            "fmi2SetContinuousStates",
+            state::SET_CONTINUOUS_STATES,
+            "continuous states",
+            nx,
+        )
+    }
+}
+
+/// `fmi2EnterEventMode` (Model Exchange).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2EnterEventMode(c: Fmi2Component) -> Fmi2StatusC {
+    unsafe { api::enter_event_mode::<M>(c) }
+}
+
+/// `fmi2NewDiscreteStates` (Model Exchange): no discrete states, no time events.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2NewDiscreteStates(
+    c: Fmi2Component,
+    event_info: *mut Fmi2EventInfo,
+) -> Fmi2StatusC {
+    unsafe { api::new_discrete_states::<M>(c, event_info) }
+}
+
+/// `fmi2EnterContinuousTimeMode` (Model Exchange).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2EnterContinuousTimeMode(c: Fmi2Component) -> Fmi2StatusC {
+    unsafe { api::enter_continuous_time_mode::<M>(c) }
+}
+
+/// `fmi2CompletedIntegratorStep` (Model Exchange): accepts the current point (the exact solver's warm
+/// start advances here, see the README); never requests an event or termination.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2CompletedIntegratorStep(
+    c: Fmi2Component,
+    _no_set_fmu_state_prior_to_current_point: Fmi2Boolean,
+    enter_event_mode: *mut Fmi2Boolean,
+    terminate_simulation: *mut Fmi2Boolean,
+) -> Fmi2StatusC {
+    unsafe { api::completed_integrator_step::<M>(c, enter_event_mode, terminate_simulation) }
+}
+
+/// `fmi2GetDerivatives` (Model Exchange): there are no continuous states (`nx` must be 0).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetDerivatives(
+    c: Fmi2Component,
+    _derivatives: *mut Fmi2Real,
+    nx: usize,
+) -> Fmi2StatusC {
+    unsafe {
+        api::no_states::<M>(
+            c,
+            "fmi2GetDerivatives",
+            state::GET_DERIVATIVES,
+            "continuous states",
+            nx,
+        )
+    }
+}
+
+/// `fmi2GetEventIndicators` (Model Exchange): there are no event indicators (`ni` must be 0).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetEventIndicators(
+    c: Fmi2Component,
+    _event_indicators: *mut Fmi2Real,
+    ni: usize,
+) -> Fmi2StatusC {
+    unsafe {
+        api::no_states::<M>(
+            c,
+            "fmi2GetEventIndicators",
+            state::GET_EVENT_INDICATORS,
+            "event indicators",
+            ni,
+        )
+    }
+}
+
+/// `fmi2GetContinuousStates` (Model Exchange): there are no continuous states (`nx` must be 0).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetContinuousStates(
+    c: Fmi2Component,
+    _x: *mut Fmi2Real,
+    nx: usize,
+) -> Fmi2StatusC {
+    unsafe {
+        api::no_states::<M>(
+            c,
+            "fmi2GetContinuousStates",
+            state::GET_EVENT_INDICATORS,
+            "continuous states",
+            nx,
+        )
+    }
+}
+
+/// `fmi2GetNominalsOfContinuousStates` (Model Exchange): there are no continuous states (`nx` must be 0).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetNominalsOfContinuousStates(
+    c: Fmi2Component,
+    _x_nominal: *mut Fmi2Real,
+    nx: usize,
+) -> Fmi2StatusC {
+    unsafe {
+        api::no_states::<M>(
+            c,
+            "fmi2GetNominalsOfContinuousStates",
+            state::GET_NOMINALS,
+            "continuous states",
+            nx,
+        )
+    }
 }

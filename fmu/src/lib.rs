@@ -1,12 +1,13 @@
 //! # WheelRailFriction FMU
 //!
-//! The wheel–rail friction model of the `wheelrail` library as an FMI 2.0 Co-Simulation FMU
-//! (modelIdentifier `WheelRailFriction`): one instance per wheel–rail contact, quasi-static (the outputs
-//! are a function of the current inputs and parameters), any number of instances per process on any
-//! threads.
+//! The wheel–rail friction model of the `wheelrail` library as an FMI 2.0 FMU for Co-Simulation and Model
+//! Exchange (one binary, modelIdentifier `WheelRailFriction`): one instance per wheel–rail contact,
+//! quasi-static (the outputs are a function of the current inputs and parameters), any number of
+//! instances per process on any threads.
 //!
-//! - [`fmi2`]: a generic FMI 2.0 co-simulation layer (C types, state machine, instance, logging, FMU states,
-//!   finite-difference derivatives, `modelDescription.xml`), independent of this model;
+//! - [`fmi2`]: a generic FMI 2.0 Co-Simulation and Model Exchange layer (C types, state machines,
+//!   instance, logging, FMU states, finite-difference derivatives, `modelDescription.xml`), independent
+//!   of this model;
 //! - [`contact`]: the variable table and the mapping to the library (no physics of its own);
 //! - `exports`: the exported C functions, one call each into [`fmi2::api`].
 //!

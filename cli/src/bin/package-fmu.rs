@@ -3,12 +3,24 @@
 //! ```text
 //! package-fmu --model-description PATH
 //! package-fmu --library target/release/libWheelRailFriction.so --out target/fmu/WheelRailFriction.fmu
+//! package-fmu --library linux64=libWheelRailFriction.so --library win64=WheelRailFriction.dll \
+//!             --library darwin64=libWheelRailFriction.dylib --out WheelRailFriction.fmu
+//! package-fmu --binaries DIR --out WheelRailFriction.fmu
 //! ```
 //!
-//! The archive holds `modelDescription.xml`, `binaries/linux64/WheelRailFriction.so` (the cdylib, renamed
-//! to the modelIdentifier), `resources/` (the lookup table directory `fmu/resources/table` when it exists),
-//! and `documentation/` (`index.html` with variables, conventions and a traction–creepage plot from real
-//! solves; `_main.html`, the FMI 2.0 entry point, links to it).
+//! The archive holds `modelDescription.xml`, the shared library of every platform as
+//! `binaries/<platform>/WheelRailFriction.<so|dll|dylib>` (renamed to the modelIdentifier), `resources/`
+//! (the lookup table directory `fmu/resources/table` when it exists), and `documentation/` (`index.html`
+//! with variables, conventions and a traction–creepage plot from real solves; `_main.html`, the FMI 2.0
+//! entry point, links to it).
+//!
+//! Binaries: `--library PATH` is the library of the platform the packager runs on (default:
+//! `target/release/` and the platform's library name, e.g. `libWheelRailFriction.so` on linux64);
+//! `--library PLATFORM=PATH` (repeatable) a library built elsewhere; `--binaries DIR` takes one library
+//! from each `DIR/<platform>/` (or `DIR/binaries/<platform>/`, e.g. an unpacked FMU). Platforms are those
+//! of FMI 2.0 (`win32`, `win64`, `linux32`, `linux64`, `darwin32`, `darwin64`); each library must have the
+//! platform's file extension and be a shared library of the platform's format (PE, ELF, Mach-O: the
+//! first bytes are checked), and no platform may be given twice.
 
 use WheelRailFriction::contact::WheelRailModel;
 use WheelRailFriction::contact::variables::*;
@@ -21,45 +33,237 @@ use std::path::{Path, PathBuf};
 use wheelrail_cli::plot::{Chart, Series, line_chart};
 use zip::write::SimpleFileOptions;
 
+/// An FMI 2.0 platform (standard §2.3: the `binaries/` subdirectories) and its shared-library format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Platform {
+    /// The directory name under `binaries/`.
+    name: &'static str,
+    /// The shared library's file extension.
+    extension: &'static str,
+    /// The format's name, for messages.
+    format: &'static str,
+    /// Possible first bytes of a library of this format.
+    magic: &'static [&'static [u8]],
+}
+
+const PE: &[&[u8]] = &[b"MZ"];
+const ELF: &[&[u8]] = &[b"\x7fELF"];
+/// Mach-O 32 and 64 bit in both byte orders, and universal (fat) binaries.
+const MACH_O: &[&[u8]] = &[
+    b"\xfe\xed\xfa\xce",
+    b"\xce\xfa\xed\xfe",
+    b"\xfe\xed\xfa\xcf",
+    b"\xcf\xfa\xed\xfe",
+    b"\xca\xfe\xba\xbe",
+];
+
+const fn platform(
+    name: &'static str,
+    extension: &'static str,
+    format: &'static str,
+    magic: &'static [&'static [u8]],
+) -> Platform {
+    Platform {
+        name,
+        extension,
+        format,
+        magic,
+    }
+}
+
+/// The platforms of FMI 2.0.
+const PLATFORMS: [Platform; 6] = [
+    platform("win32", "dll", "PE", PE),
+    platform("win64", "dll", "PE", PE),
+    platform("linux32", "so", "ELF", ELF),
+    platform("linux64", "so", "ELF", ELF),
+    platform("darwin32", "dylib", "Mach-O", MACH_O),
+    platform("darwin64", "dylib", "Mach-O", MACH_O),
+];
+
+impl Platform {
+    fn named(name: &str) -> Result<Platform> {
+        PLATFORMS
+            .iter()
+            .find(|p| p.name == name)
+            .copied()
+            .with_context(|| {
+                let names: Vec<_> = PLATFORMS.iter().map(|p| p.name).collect();
+                format!(
+                    "unknown platform \"{name}\" (FMI 2.0 platforms: {})",
+                    names.join(", ")
+                )
+            })
+    }
+
+    /// The platform the packager runs on.
+    fn host() -> Platform {
+        let name = match (std::env::consts::OS, cfg!(target_pointer_width = "64")) {
+            ("windows", true) => "win64",
+            ("windows", false) => "win32",
+            ("macos", true) => "darwin64",
+            ("macos", false) => "darwin32",
+            (_, true) => "linux64",
+            (_, false) => "linux32",
+        };
+        Platform::named(name).expect("the host platform is in the table")
+    }
+
+    /// The library's path inside the FMU.
+    fn archive_path(self) -> String {
+        format!(
+            "binaries/{}/{}.{}",
+            self.name, INFO.model_identifier, self.extension
+        )
+    }
+
+    /// Reads the library at `path`, checking its extension and format.
+    fn read_library(self, path: &Path) -> Result<Vec<u8>> {
+        let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if !extension.eq_ignore_ascii_case(self.extension) {
+            bail!(
+                "{}: a {} library must be a .{} file",
+                path.display(),
+                self.name,
+                self.extension
+            );
+        }
+        let bytes = std::fs::read(path)
+            .with_context(|| format!("reading the shared library {}", path.display()))?;
+        if !self.magic.iter().any(|m| bytes.starts_with(m)) {
+            bail!(
+                "{} is not a {} shared library (a {} library is in {} format)",
+                path.display(),
+                self.format,
+                self.name,
+                self.format
+            );
+        }
+        Ok(bytes)
+    }
+}
+
+#[derive(Debug)]
 struct Args {
     model_description: Option<PathBuf>,
-    library: PathBuf,
+    /// The libraries by platform, in the order given.
+    libraries: Vec<(Platform, PathBuf)>,
     out: PathBuf,
 }
 
-fn parse_args() -> Result<Args> {
+/// One `--library` value: `PLATFORM=PATH`, or a path of the host platform's library.
+fn library_arg(value: &str) -> Result<(Platform, PathBuf)> {
+    match value.split_once('=') {
+        Some((name, path))
+            if !name.is_empty() && name.chars().all(|c| c.is_ascii_alphanumeric()) =>
+        {
+            Ok((Platform::named(name)?, path.into()))
+        }
+        _ => Ok((Platform::host(), value.into())),
+    }
+}
+
+/// The libraries of `--binaries DIR`: one per `<platform>/` subdirectory of DIR (or of `DIR/binaries`).
+fn binaries_dir(dir: &Path) -> Result<Vec<(Platform, PathBuf)>> {
+    let dir = match dir.join("binaries") {
+        nested if nested.is_dir() => nested,
+        _ => dir.to_path_buf(),
+    };
+    let mut found = Vec::new();
+    let mut entries = std::fs::read_dir(&dir)
+        .with_context(|| format!("reading the binaries directory {}", dir.display()))?
+        .map(|e| Ok(e?.path()))
+        .collect::<Result<Vec<_>>>()?;
+    entries.sort();
+    for sub in entries.into_iter().filter(|p| p.is_dir()) {
+        let name = sub.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        let platform =
+            Platform::named(name).with_context(|| format!("directory {}", sub.display()))?;
+        let libraries: Vec<PathBuf> = std::fs::read_dir(&sub)?
+            .map(|e| Ok(e?.path()))
+            .collect::<Result<Vec<_>>>()?
+            .into_iter()
+            .filter(|p| {
+                p.is_file()
+                    && p.extension()
+                        .and_then(|e| e.to_str())
+                        .is_some_and(|e| e.eq_ignore_ascii_case(platform.extension))
+            })
+            .collect();
+        match libraries.as_slice() {
+            [one] => found.push((platform, one.clone())),
+            [] => bail!("{} holds no .{} library", sub.display(), platform.extension),
+            _ => bail!(
+                "{} holds {} .{} libraries; which one is the FMU's is ambiguous",
+                sub.display(),
+                libraries.len(),
+                platform.extension
+            ),
+        }
+    }
+    if found.is_empty() {
+        bail!(
+            "{} has no platform directories (e.g. win64/)",
+            dir.display()
+        );
+    }
+    Ok(found)
+}
+
+fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Args> {
     let mut a = Args {
         model_description: None,
-        library: PathBuf::from("target/release/libWheelRailFriction.so"),
+        libraries: Vec::new(),
         out: PathBuf::from("target/fmu/WheelRailFriction.fmu"),
     };
-    let mut it = std::env::args().skip(1);
+    let mut it = args.into_iter();
     while let Some(flag) = it.next() {
         let mut value = || it.next().with_context(|| format!("{flag} needs a value"));
         match flag.as_str() {
             "--model-description" => a.model_description = Some(value()?.into()),
-            "--library" => a.library = value()?.into(),
+            "--library" => a.libraries.push(library_arg(&value()?)?),
+            "--binaries" => a.libraries.extend(binaries_dir(Path::new(&value()?))?),
             "--out" => a.out = value()?.into(),
             _ => bail!("unknown argument {flag} (see the source's header for usage)"),
+        }
+    }
+    if a.libraries.is_empty() {
+        let library = format!(
+            "target/release/{}WheelRailFriction{}",
+            std::env::consts::DLL_PREFIX,
+            std::env::consts::DLL_SUFFIX
+        );
+        a.libraries.push((Platform::host(), library.into()));
+    }
+    for (k, (p, _)) in a.libraries.iter().enumerate() {
+        if a.libraries[..k].iter().any(|(q, _)| q == p) {
+            bail!("platform {} is given more than once", p.name);
         }
     }
     Ok(a)
 }
 
 fn main() -> Result<()> {
-    let a = parse_args()?;
+    let a = parse_args(std::env::args().skip(1))?;
     let xml = WheelRailFriction::model_description();
     if let Some(path) = a.model_description {
         std::fs::write(&path, xml).with_context(|| format!("writing {}", path.display()))?;
         println!("wrote {}", path.display());
         return Ok(());
     }
-    let library = std::fs::read(&a.library).with_context(|| {
-        format!(
-            "reading the shared library {} (build it with `make fmu`)",
-            a.library.display()
-        )
-    })?;
+    let libraries = a
+        .libraries
+        .iter()
+        .map(|(platform, path)| {
+            let bytes = platform.read_library(path).with_context(|| {
+                format!(
+                    "the {} library (build it with `make fmu` on that platform)",
+                    platform.name
+                )
+            })?;
+            Ok((platform.archive_path(), bytes))
+        })
+        .collect::<Result<Vec<_>>>()?;
     let doc_dir = a.out.with_extension("doc");
     std::fs::create_dir_all(&doc_dir)?;
     let plot = doc_dir.join("traction_creepage.png");
@@ -78,7 +282,9 @@ fn main() -> Result<()> {
         Ok(())
     };
     add("modelDescription.xml", xml.as_bytes(), 0o644)?;
-    add("binaries/linux64/WheelRailFriction.so", &library, 0o755)?;
+    for (name, bytes) in &libraries {
+        add(name, bytes, 0o755)?;
+    }
     add(
         "documentation/index.html",
         documentation().as_bytes(),
@@ -111,7 +317,12 @@ fn main() -> Result<()> {
         zip.add_directory("resources/", SimpleFileOptions::default())?;
     }
     zip.finish()?;
-    println!("wrote {}", a.out.display());
+    let platforms: Vec<_> = a.libraries.iter().map(|(p, _)| p.name).collect();
+    println!(
+        "wrote {} (binaries: {})",
+        a.out.display(),
+        platforms.join(", ")
+    );
     Ok(())
 }
 
@@ -223,8 +434,8 @@ code{{background:#f3f3f3}}</style></head><body>
 wheel&ndash;rail contact: a model comprising interfacial fluids, surface roughness and temperature</i>, Wear 271
 (2011) 2&ndash;12: Hertz contact, Greenwood&ndash;Williamson microcontact, temperature-dependent failure stress,
 FASTSIM with a locally varying adhesion limit, flash temperature and an interfacial fluid, solved as one coupled
-fixed point. FMI 2.0 Co-Simulation, one instance per contact; any number of instances per process, on any
-threads.</p>
+fixed point. FMI 2.0 Co-Simulation and Model Exchange (one binary), one instance per contact; any number of
+instances per process, on any threads.</p>
 
 <h2>Conventions</h2>
 <ul>
@@ -264,7 +475,12 @@ versioned and checksummed, and corrupt bytes are rejected.</li>
 </ul>
 
 <h2>Capabilities</h2>
-<p>All FMI 2.0 common and co-simulation functions are exported. <code>canHandleVariableCommunicationStepSize</code>,
+<p>All FMI 2.0 common, co-simulation and model-exchange functions are exported. Model Exchange: no continuous
+states and no event indicators; the outputs are algebraic functions of the inputs (direct feedthrough), computed
+when read after an input changed, with directional derivatives for the integrator's Jacobian; the exact solver's
+warm start advances only at accepted points (<code>fmi2ExitInitializationMode</code>,
+<code>fmi2EnterContinuousTimeMode</code>, <code>fmi2CompletedIntegratorStep</code>), so that repeated evaluations
+within an integrator step give the same outputs for the same inputs. <code>canHandleVariableCommunicationStepSize</code>,
 <code>canGetAndSetFMUstate</code>, <code>canSerializeFMUstate</code>, <code>providesDirectionalDerivative</code>,
 <code>canNotUseMemoryManagementFunctions</code>: true. <code>canInterpolateInputs</code>,
 <code>canRunAsynchronuously</code>, <code>canBeInstantiatedOnlyOncePerProcess</code>: false;
@@ -283,4 +499,91 @@ width="900"></p>
         version = env!("CARGO_PKG_VERSION"),
         vmin = DEFAULT_MINIMUM_SPEED,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(list: &[&str]) -> Result<Args> {
+        parse_args(list.iter().map(|s| s.to_string()))
+    }
+
+    #[test]
+    fn libraries_are_named_per_platform_and_validated() {
+        let a = args(&["--library", "x/libWheelRailFriction.so"]).unwrap();
+        assert_eq!(
+            a.libraries,
+            [(Platform::host(), "x/libWheelRailFriction.so".into())]
+        );
+        let a = args(&[
+            "--library",
+            "win64=C:/b=1/WheelRailFriction.dll",
+            "--library",
+            "darwin64=m.dylib",
+        ])
+        .unwrap();
+        let paths: Vec<_> = a.libraries.iter().map(|(p, _)| p.archive_path()).collect();
+        assert_eq!(
+            paths,
+            [
+                "binaries/win64/WheelRailFriction.dll",
+                "binaries/darwin64/WheelRailFriction.dylib"
+            ]
+        );
+        assert_eq!(
+            a.libraries[0].1,
+            PathBuf::from("C:/b=1/WheelRailFriction.dll")
+        );
+        // a path with '=' that names no platform stays a path of the host's library
+        let a = args(&["--library", "out/a-b=c.so"]).unwrap();
+        assert_eq!(a.libraries[0].0, Platform::host());
+        let e = args(&["--library", "win65=x.dll"]).unwrap_err().to_string();
+        assert!(
+            e.contains("unknown platform \"win65\"") && e.contains("darwin64"),
+            "{e}"
+        );
+        let e = args(&["--library", "win64=a.dll", "--library", "win64=b.dll"]).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("platform win64 is given more than once")
+        );
+        let default = args(&[]).unwrap();
+        assert_eq!(default.libraries.len(), 1);
+        assert!(default.libraries[0].1.starts_with("target/release"));
+    }
+
+    #[test]
+    fn a_library_must_have_its_platforms_extension_and_format() {
+        let dir = std::env::temp_dir().join(format!("package-fmu-unit-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let write = |name: &str, bytes: &[u8]| {
+            let p = dir.join(name);
+            std::fs::write(&p, bytes).unwrap();
+            p
+        };
+        let dll = write("WheelRailFriction.dll", b"MZ\x90\x00fake");
+        let so = write("libWheelRailFriction.so", b"\x7fELF\x02fake");
+        let dylib = write("libWheelRailFriction.dylib", b"\xcf\xfa\xed\xfefake");
+        let win64 = Platform::named("win64").unwrap();
+        let linux64 = Platform::named("linux64").unwrap();
+        let darwin64 = Platform::named("darwin64").unwrap();
+        assert!(win64.read_library(&dll).is_ok());
+        assert!(linux64.read_library(&so).is_ok());
+        assert!(darwin64.read_library(&dylib).is_ok());
+        let e = win64.read_library(&so).unwrap_err().to_string();
+        assert!(e.contains("a win64 library must be a .dll file"), "{e}");
+        // the right name but the wrong format: a Linux library renamed
+        let renamed = write("renamed.dll", b"\x7fELF\x02fake");
+        let e = win64.read_library(&renamed).unwrap_err().to_string();
+        assert!(e.contains("is not a PE shared library"), "{e}");
+        let e = darwin64
+            .read_library(&dll.with_extension("dylib"))
+            .unwrap_err();
+        assert!(
+            format!("{e:#}").contains("reading the shared library"),
+            "{e:#}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -28,6 +28,11 @@
 //! [`DERIVATIVE_TOLERANCE`], so that solver noise (relative error ≈ tolerance/step = 10⁻⁴) stays far below
 //! the step. Where a cell of the discretised contact switches between stick and slip, F(ξ) has a kink and
 //! this is the slope on the side of the seed direction.
+//!
+//! **Warm start** (`warm_start`): in Co-Simulation each step's exact solve starts from the previous
+//! step's final state ([`Model::calculate`]); in Model Exchange every evaluation starts from the state of
+//! the last accepted point and leaves it ([`Model::calculate_trial`]), so that an integrator's repeated
+//! evaluations give the same outputs for the same inputs, and [`Model::accept`] advances it.
 
 use super::mode::{mode_of, resolve, table_location};
 use super::state::ContactState;
@@ -36,7 +41,7 @@ use crate::fmi2::derivative::forward_difference;
 use crate::fmi2::ffi::Status;
 use crate::fmi2::logging::Logger;
 use crate::fmi2::model::{Model, ModelInfo};
-use crate::fmi2::variables::{Value, Values};
+use crate::fmi2::variables::{Causality, Value, Values};
 use std::path::{Path, PathBuf};
 use wheelrail::model::{
     DERIVATIVE_TOLERANCE, Evaluated, Evaluation, Evaluator, Fallback, LIFT_OFF_LOAD,
@@ -245,8 +250,8 @@ impl Warned {
 /// What it keeps between calls: the warm start (part of the FMU state, [`ContactState`]), and caches that
 /// are pure functions of the values and that state, so that a restored instance continues bit for bit:
 /// the [`Setup`] (keyed by every value it is built from), the table Jacobian (keyed by the inputs and the
-/// geometry) and the derivative base point (keyed by the values, dropped whenever the warm start it was
-/// solved from is replaced or restored). The one-time warnings logged (`Warned`) belong to the instance's
+/// geometry), and the derivative base point and the Model Exchange trial (keyed by the values, dropped
+/// whenever the warm start they were solved from is replaced or restored). The one-time warnings logged (`Warned`) belong to the instance's
 /// log, not to the FMU state.
 pub struct WheelRailModel {
     resources: Option<PathBuf>,
@@ -259,6 +264,32 @@ pub struct WheelRailModel {
     /// derivative's unperturbed point: further seed directions at the same values need one solve each.
     /// Solved from `warm`, so dropped whenever `warm` changes.
     derivative_base: Option<(Values, Values)>,
+    /// Model Exchange: the values of the last [`Model::calculate_trial`] and the warm start its exact
+    /// solve ended in (None: no exact solve), which [`Model::accept`] makes the next start. Solved from
+    /// `warm`, so dropped whenever `warm` changes.
+    trial: Option<(Values, Option<WarmStart>)>,
+}
+
+/// What an evaluation does with the instance's warm start (parameter `warm_start` on; off, every exact
+/// solve starts cold and nothing is kept).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Start {
+    /// Start from it and replace it by the solve's final state (`calculate`: a Co-Simulation step).
+    Advance,
+    /// Start from it and keep it; remember the solve's final state as the trial (`calculate_trial`:
+    /// Model Exchange within an integrator step).
+    Trial,
+    /// Start from it and keep it; forget the solve's final state (finite differences).
+    Probe,
+}
+
+/// Whether two value sets agree in everything but the outputs (the inputs and parameters an evaluation
+/// reads).
+fn same_knowns(a: &Values, b: &Values) -> bool {
+    a.table()
+        .iter()
+        .zip(a.list().iter().zip(b.list()))
+        .all(|(v, (x, y))| v.causality == Causality::Output || x == y)
 }
 
 /// The FMU's Real inputs in the order of the table's axes (ξ, η, φ, F_N, V, w).
@@ -329,40 +360,51 @@ impl WheelRailModel {
 
     /// Evaluates the outputs of the current values: (results in the FMU's frame, evaluation_mode, status).
     /// `tolerance` tightens the exact solver's tolerance and selects the exact solver whatever the mode
-    /// (for finite differences). With `warm_start` on, an exact solve starts from the last `calculate`'s
-    /// state; `keep` makes its own state the next start.
+    /// (for finite differences). With `warm_start` on, an exact solve starts from the instance's warm
+    /// start; `start` says what becomes of the solve's final state.
     fn evaluate(
         &mut self,
         values: &Values,
         tolerance: Option<f64>,
-        keep: bool,
+        start: Start,
         log: &Logger,
     ) -> Result<(Evaluation, i32, Status), String> {
         let (setup, mut status) =
             Setup::current(&mut self.setup, self.resources.as_deref(), values, log)?;
         let warm_start = values.boolean(WARM_START);
-        let mut warm = match (warm_start, keep) {
+        let mut warm = match (warm_start, start) {
             (false, _) => None,
-            (true, true) => self.warm.take(),
-            (true, false) => self.warm.clone(),
+            (true, Start::Advance) => self.warm.take(),
+            (true, _) => self.warm.clone(),
         };
         let evaluator = match tolerance {
             Some(_) => &setup.exact,
             None => &setup.evaluator,
         };
         let result = evaluator.evaluate_at(&input(values), &geometry(values), tolerance, &mut warm);
-        if warm_start && keep {
-            // an exact solve replaced the warm start the derivative base was solved from
-            if matches!(
-                &result,
-                Ok(Evaluation {
-                    by: Evaluated::Exact(_),
-                    ..
-                })
-            ) {
-                self.derivative_base = None;
+        let exact = matches!(
+            &result,
+            Ok(Evaluation {
+                by: Evaluated::Exact(_),
+                ..
+            })
+        );
+        match start {
+            Start::Advance if warm_start => {
+                // an exact solve replaced the warm start the derivative base and the trial were
+                // solved from
+                if exact {
+                    self.derivative_base = None;
+                    self.trial = None;
+                }
+                self.warm = warm;
             }
-            self.warm = warm;
+            Start::Trial if warm_start => {
+                self.trial = result
+                    .is_ok()
+                    .then(|| (values.clone(), warm.filter(|_| exact)));
+            }
+            _ => {}
         }
         let e = result.map_err(|e| fmu_error(e, values))?;
         if !e.notices.is_empty() {
@@ -371,6 +413,32 @@ impl WheelRailModel {
         }
         let mode = evaluation_mode(&e.by, evaluator);
         Ok((e, mode, status))
+    }
+
+    /// Computes every output of `values` and writes them into `values` (`start`: what becomes of the warm
+    /// start); an unconverged solve is a warning.
+    fn outputs(
+        &mut self,
+        values: &mut Values,
+        start: Start,
+        log: &Logger,
+    ) -> Result<Status, String> {
+        let (e, mode, mut status) = self.evaluate(values, None, start, log)?;
+        let output = e.outputs().map_err(|err| fmu_error(err, values))?;
+        if !output.converged {
+            log.warning(&match e.by.report() {
+                None => "the lookup table's points around this operating point did not converge when the \
+                         table was built; output converged = false"
+                    .to_string(),
+                Some(r) => format!(
+                    "the coupled solver did not converge after {} iterations (residual {:.3e}); output converged = false",
+                    r.iterations, r.residual
+                ),
+            });
+            status = Status::Warning;
+        }
+        write_outputs(values, &e, &output, mode);
+        Ok(status)
     }
 
     /// The directional derivative from the table interpolant's Jacobian when the table evaluates the
@@ -469,6 +537,7 @@ impl Model for WheelRailModel {
             warned: Warned::default(),
             warm: None,
             derivative_base: None,
+            trial: None,
         }
     }
 
@@ -477,6 +546,7 @@ impl Model for WheelRailModel {
         self.warned = Warned::default();
         self.warm = None;
         self.derivative_base = None;
+        self.trial = None;
     }
 
     fn state(&self) -> ContactState {
@@ -488,24 +558,36 @@ impl Model for WheelRailModel {
     fn set_state(&mut self, state: &ContactState) {
         self.warm = state.warm.clone();
         self.derivative_base = None;
+        self.trial = None;
     }
 
     fn calculate(&mut self, values: &mut Values, log: &Logger) -> Result<Status, String> {
-        let (e, mode, mut status) = self.evaluate(values, None, true, log)?;
-        let output = e.outputs().map_err(|err| fmu_error(err, values))?;
-        if !output.converged {
-            log.warning(&match e.by.report() {
-                None => "the lookup table's points around this operating point did not converge when the \
-                         table was built; output converged = false"
-                    .to_string(),
-                Some(r) => format!(
-                    "the coupled solver did not converge after {} iterations (residual {:.3e}); output converged = false",
-                    r.iterations, r.residual
-                ),
-            });
-            status = Status::Warning;
+        self.outputs(values, Start::Advance, log)
+    }
+
+    /// With `warm_start` on, the exact solve starts from the warm start of the last accepted point, which
+    /// stays: the outputs are a function of the values and that warm start (for an implicit integrator's
+    /// Newton iteration), within the solver tolerance of a cold solve.
+    fn calculate_trial(&mut self, values: &mut Values, log: &Logger) -> Result<Status, String> {
+        self.outputs(values, Start::Trial, log)
+    }
+
+    /// The warm start becomes the final state of the exact solve at `values` from the current warm start:
+    /// that of the last [`Model::calculate_trial`] if it was at these values, else solved again (after a
+    /// restore, a reset, or a second accept at the same values), so that the result depends on the
+    /// values and the FMU state only. Table evaluations leave the warm start as it is.
+    fn accept(&mut self, values: &Values, log: &Logger) -> Result<Status, String> {
+        if !values.boolean(WARM_START) {
+            return Ok(Status::Ok);
         }
-        write_outputs(values, &e, &output, mode);
+        let status = match &self.trial {
+            Some((at, _)) if same_knowns(at, values) => Status::Ok,
+            _ => self.calculate_trial(&mut values.clone(), log)?,
+        };
+        if let Some((_, Some(warm))) = self.trial.take() {
+            self.derivative_base = None;
+            self.warm = Some(warm);
+        }
         Ok(status)
     }
 
@@ -527,7 +609,7 @@ impl Model for WheelRailModel {
             {
                 return Ok(out.clone());
             }
-            let (e, mode, _) = self.evaluate(v, Some(DERIVATIVE_TOLERANCE), false, log)?;
+            let (e, mode, _) = self.evaluate(v, Some(DERIVATIVE_TOLERANCE), Start::Probe, log)?;
             let mut out = v.clone();
             let output = e.outputs().map_err(|err| fmu_error(err, v))?;
             write_outputs(&mut out, &e, &output, mode);
@@ -926,7 +1008,7 @@ mod tests {
                     w.set(*k, Value::Real(w.real(*k) + sign * h * s));
                 }
                 let (e, mode, _) = m
-                    .evaluate(&w, Some(DERIVATIVE_TOLERANCE), false, &log)
+                    .evaluate(&w, Some(DERIVATIVE_TOLERANCE), Start::Probe, &log)
                     .unwrap();
                 write_outputs(&mut w, &e, &e.outputs().unwrap(), mode);
                 unknowns.map(|i| w.real(i))

@@ -1,4 +1,5 @@
-//! The generic implementation of every FMI 2.0 co-simulation function for a [`Model`]. The exported C
+//! The generic implementation of every FMI 2.0 function (common, Co-Simulation and Model Exchange) for a
+//! [`Model`]. The exported C
 //! functions are one call each into these. Each function checks its pointers, checks that the call is
 //! allowed in the instance's state (else "Illegal call sequence" and `fmi2Error`), runs inside
 //! `catch_unwind` so that no panic crosses the C boundary, logs failures and returns the status.
@@ -16,7 +17,7 @@ use super::logging::{Logger, c_sink};
 use super::model::Model;
 use super::resources::path_from_uri;
 use super::snapshot::Snapshot;
-use super::state::{self, Mask};
+use super::state::{self, Interface, Mask};
 use super::variables::{Type, Value};
 use std::ffi::{CStr, c_char, c_int};
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -30,7 +31,8 @@ fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
         .unwrap_or_else(|| "unknown panic".into())
 }
 
-/// Runs `f` on the instance behind `c` if `allowed` contains its state; see the module documentation.
+/// Runs `f` on the instance behind `c` if the function belongs to the instance's interface type and
+/// `allowed` contains its state; see the module documentation.
 ///
 /// # Safety
 /// `c` is null or a live instance of model `M`.
@@ -44,6 +46,14 @@ pub unsafe fn call<M: Model>(
     let Some(inst) = (unsafe { (c as *mut Instance<M>).as_mut() }) else {
         return Status::Error as c_int;
     };
+    if !allowed.serves(inst.interface) {
+        inst.log.error(&format!(
+            "{function}: Illegal call sequence (not a function of {}, the interface type this instance was \
+             instantiated as)",
+            inst.interface.name()
+        ));
+        return Status::Error as c_int;
+    }
     if !allowed.allows(inst.state) {
         inst.log.error(&format!(
             "{function}: Illegal call sequence (the instance is in state {:?})",
@@ -131,8 +141,8 @@ fn out<'a, T>(ptr: *mut T, what: &str) -> Result<&'a mut T, Failure> {
         .ok_or_else(|| Failure::Rejected(format!("argument {what} is a null pointer")))
 }
 
-/// `fmi2Instantiate`: a new co-simulation instance, or null (with a logged reason) if the type is not
-/// co-simulation, the GUID differs, the name is missing, or `functions` is null.
+/// `fmi2Instantiate`: a new Co-Simulation or Model Exchange instance, or null (with a logged reason) if
+/// the type is neither, the GUID differs, the name is missing, or `functions` is null.
 ///
 /// # Safety
 /// Pointers are null or valid as FMI 2.0 requires.
@@ -167,11 +177,12 @@ pub unsafe fn instantiate<M: Model>(
             Ok(n) if !n.is_empty() => n.to_string(),
             _ => return fail("instanceName is missing"),
         };
-        if fmu_type != FMI2_COSIMULATION {
+        let Some(interface) = Interface::of_fmu_type(fmu_type) else {
             return fail(&format!(
-                "this FMU supports Co-Simulation only (fmuType {fmu_type})"
+                "fmuType {fmu_type} is neither fmi2ModelExchange ({FMI2_MODEL_EXCHANGE}) nor \
+                 fmi2CoSimulation ({FMI2_COSIMULATION})"
             ));
-        }
+        };
         let guid = description::guid(M::info());
         // SAFETY: as above.
         match unsafe { text(fmu_guid, "fmuGUID") } {
@@ -202,9 +213,10 @@ pub unsafe fn instantiate<M: Model>(
             }
         };
         log.event(&format!(
-            "fmi2Instantiate: instance {name} created (resources: {resources:?})"
+            "fmi2Instantiate: {} instance {name} created (resources: {resources:?})",
+            interface.name()
         ));
-        let inst = Instance::new(name, log, M::new(resources));
+        let inst = Instance::new(name, interface, log, M::new(resources));
         Box::into_raw(Box::new(inst)) as Fmi2Component
     }))
     .unwrap_or(null_mut())
@@ -557,14 +569,20 @@ pub unsafe fn get_directional_derivative<M: Model>(
     }
 }
 
-/// A function this FMU does not provide (its capability flag is false): logged and `fmi2Error`.
+/// A function this FMU does not provide (its capability flag is false): logged and `fmi2Error`; called in
+/// a state outside `allowed` or in an instance of the other interface type, it is an illegal call instead.
 ///
 /// # Safety
 /// See the module documentation.
-pub unsafe fn unsupported<M: Model>(c: Fmi2Component, function: &str, reason: &str) -> Fmi2StatusC {
+pub unsafe fn unsupported<M: Model>(
+    c: Fmi2Component,
+    function: &str,
+    allowed: Mask,
+    reason: &str,
+) -> Fmi2StatusC {
     // SAFETY: see the module documentation.
     unsafe {
-        call::<M>(c, function, state::ANY, |_| {
+        call::<M>(c, function, allowed, |_| {
             Err(Failure::Rejected(format!("not supported ({reason})")))
         })
     }
@@ -619,6 +637,126 @@ pub unsafe fn get_status<M: Model, T>(
                     Ok(Status::Discard)
                 }
             }
+        })
+    }
+}
+
+/// `fmi2SetTime`.
+///
+/// # Safety
+/// See the module documentation.
+pub unsafe fn set_time<M: Model>(c: Fmi2Component, time: f64) -> Fmi2StatusC {
+    // SAFETY: see the module documentation.
+    unsafe { call::<M>(c, "fmi2SetTime", state::SET_TIME, |i| i.set_time(time)) }
+}
+
+/// `fmi2EnterEventMode`.
+///
+/// # Safety
+/// See the module documentation.
+pub unsafe fn enter_event_mode<M: Model>(c: Fmi2Component) -> Fmi2StatusC {
+    // SAFETY: see the module documentation.
+    unsafe {
+        call::<M>(c, "fmi2EnterEventMode", state::ENTER_EVENT_MODE, |i| {
+            i.enter_event_mode()
+        })
+    }
+}
+
+/// `fmi2NewDiscreteStates`: the model has no discrete states and no time events, so one event
+/// iteration always suffices.
+///
+/// # Safety
+/// See the module documentation.
+pub unsafe fn new_discrete_states<M: Model>(
+    c: Fmi2Component,
+    event_info: *mut Fmi2EventInfo,
+) -> Fmi2StatusC {
+    // SAFETY: see the module documentation.
+    unsafe {
+        call::<M>(
+            c,
+            "fmi2NewDiscreteStates",
+            state::NEW_DISCRETE_STATES,
+            |_| {
+                *out(event_info, "eventInfo")? = Fmi2EventInfo {
+                    new_discrete_states_needed: FMI2_FALSE,
+                    terminate_simulation: FMI2_FALSE,
+                    nominals_of_continuous_states_changed: FMI2_FALSE,
+                    values_of_continuous_states_changed: FMI2_FALSE,
+                    next_event_time_defined: FMI2_FALSE,
+                    next_event_time: 0.0,
+                };
+                Ok(Status::Ok)
+            },
+        )
+    }
+}
+
+/// `fmi2EnterContinuousTimeMode`.
+///
+/// # Safety
+/// See the module documentation.
+pub unsafe fn enter_continuous_time_mode<M: Model>(c: Fmi2Component) -> Fmi2StatusC {
+    // SAFETY: see the module documentation.
+    unsafe {
+        call::<M>(
+            c,
+            "fmi2EnterContinuousTimeMode",
+            state::ENTER_CONTINUOUS_TIME_MODE,
+            |i| i.enter_continuous_time_mode(),
+        )
+    }
+}
+
+/// `fmi2CompletedIntegratorStep`: accepts the current point; never asks for an event or to terminate.
+///
+/// # Safety
+/// See the module documentation.
+pub unsafe fn completed_integrator_step<M: Model>(
+    c: Fmi2Component,
+    enter_event_mode: *mut Fmi2Boolean,
+    terminate_simulation: *mut Fmi2Boolean,
+) -> Fmi2StatusC {
+    // SAFETY: see the module documentation.
+    unsafe {
+        call::<M>(
+            c,
+            "fmi2CompletedIntegratorStep",
+            state::COMPLETED_INTEGRATOR_STEP,
+            |i| {
+                let event = out(enter_event_mode, "enterEventMode")?;
+                let terminate = out(terminate_simulation, "terminateSimulation")?;
+                let status = i.accept()?;
+                *event = FMI2_FALSE;
+                *terminate = FMI2_FALSE;
+                Ok(status)
+            },
+        )
+    }
+}
+
+/// The functions of the continuous states and event indicators (`fmi2SetContinuousStates`,
+/// `fmi2GetContinuousStates`, `fmi2GetDerivatives`, `fmi2GetEventIndicators`,
+/// `fmi2GetNominalsOfContinuousStates`): the model has none of either, so the only valid length `n` is 0
+/// (and then nothing is read or written).
+///
+/// # Safety
+/// See the module documentation.
+pub unsafe fn no_states<M: Model>(
+    c: Fmi2Component,
+    function: &str,
+    allowed: Mask,
+    what: &str,
+    n: usize,
+) -> Fmi2StatusC {
+    // SAFETY: see the module documentation.
+    unsafe {
+        call::<M>(c, function, allowed, |_| match n {
+            0 => Ok(Status::Ok),
+            _ => Err(Failure::Rejected(format!(
+                "this FMU has no {what}, but the call passes {n}"
+            ))),
         })
     }
 }

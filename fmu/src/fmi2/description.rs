@@ -1,13 +1,17 @@
 //! `modelDescription.xml` generated from a [`ModelInfo`] (FMI 2.0.4 schema `fmi2ModelDescription.xsd`), and
 //! the model's GUID.
 //!
-//! Capability flags are those of the generic layer: `canHandleVariableCommunicationStepSize`,
-//! `canGetAndSetFMUstate`, `canSerializeFMUstate`, `providesDirectionalDerivative` and
-//! `canNotUseMemoryManagementFunctions` are true; `canInterpolateInputs`, `canRunAsynchronuously` and
-//! `canBeInstantiatedOnlyOncePerProcess` are false; `maxOutputDerivativeOrder` is 0.
+//! The one binary serves both interface types, so the document has a `<ModelExchange>` and a
+//! `<CoSimulation>` element with the same `modelIdentifier`. Capability flags are those of the generic
+//! layer: `canHandleVariableCommunicationStepSize`, `canGetAndSetFMUstate`, `canSerializeFMUstate`,
+//! `providesDirectionalDerivative` and `canNotUseMemoryManagementFunctions` are true;
+//! `canInterpolateInputs`, `canRunAsynchronuously`, `canBeInstantiatedOnlyOncePerProcess` and (Model
+//! Exchange) `completedIntegratorStepNotNeeded` are false; `maxOutputDerivativeOrder` is 0. Model Exchange
+//! has no continuous states and no event indicators (`numberOfEventIndicators="0"`, no `<Derivatives>`).
 //!
 //! `ModelStructure`: every output depends on every input (the model is quasi-static with direct
-//! feedthrough); initial unknowns are the outputs, depending on all knowns (no `dependencies` attribute).
+//! feedthrough; with no states, that is also the complete Model Exchange dependency list); initial
+//! unknowns are the outputs, depending on all knowns (no `dependencies` attribute).
 
 use super::logging::CATEGORIES;
 use super::model::ModelInfo;
@@ -111,6 +115,15 @@ fn document(info: &ModelInfo, guid: &str) -> String {
         esc(info.version),
         esc(info.license),
         esc(info.generation_tool)
+    );
+    // one binary serves both interface types: the same modelIdentifier
+    let _ = writeln!(
+        x,
+        "  <ModelExchange modelIdentifier=\"{}\" needsExecutionTool=\"false\" \
+         completedIntegratorStepNotNeeded=\"false\" canBeInstantiatedOnlyOncePerProcess=\"false\" \
+         canNotUseMemoryManagementFunctions=\"true\" canGetAndSetFMUstate=\"true\" \
+         canSerializeFMUstate=\"true\" providesDirectionalDerivative=\"true\"/>",
+        esc(info.model_identifier)
     );
     let _ = writeln!(
         x,
@@ -275,6 +288,14 @@ mod tests {
         assert!(x.contains("<Unknown index=\"2\" dependencies=\"1\"/>"));
         assert!(x.contains("<BaseUnit kg=\"1\" m=\"1\" s=\"-2\"/>"));
         assert!(x.contains("initial=\"calculated\""));
+        // both interface types, one binary
+        assert_eq!(x.matches("modelIdentifier=\"M\"").count(), 2);
+        let (me, cs) = (
+            x.find("<ModelExchange ").unwrap(),
+            x.find("<CoSimulation ").unwrap(),
+        );
+        assert!(me < cs && cs < x.find("<UnitDefinitions>").unwrap());
+        assert!(x.contains("completedIntegratorStepNotNeeded=\"false\""));
     }
 
     #[test]

@@ -32,8 +32,28 @@ pub const FMI2_FALSE: Fmi2Boolean = 0;
 pub const FMI2_VERSION: &std::ffi::CStr = c"2.0";
 /// `fmi2TypesPlatform`.
 pub const FMI2_TYPES_PLATFORM: &std::ffi::CStr = c"default";
+/// `fmi2ModelExchange` of `fmi2Type`.
+pub const FMI2_MODEL_EXCHANGE: c_int = 0;
 /// `fmi2CoSimulation` of `fmi2Type`.
 pub const FMI2_COSIMULATION: c_int = 1;
+
+/// `fmi2EventInfo`: what `fmi2NewDiscreteStates` reports (Model Exchange).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fmi2EventInfo {
+    /// Another event iteration is needed.
+    pub new_discrete_states_needed: Fmi2Boolean,
+    /// The FMU asks to end the simulation.
+    pub terminate_simulation: Fmi2Boolean,
+    /// The nominal values of the continuous states changed.
+    pub nominals_of_continuous_states_changed: Fmi2Boolean,
+    /// The continuous states changed.
+    pub values_of_continuous_states_changed: Fmi2Boolean,
+    /// `next_event_time` is a time event.
+    pub next_event_time_defined: Fmi2Boolean,
+    /// The next time event [s], if defined.
+    pub next_event_time: Fmi2Real,
+}
 
 /// `fmi2Status`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]

@@ -4,7 +4,7 @@ use super::ffi::Status;
 use super::logging::Logger;
 use super::model::Model;
 use super::snapshot::Snapshot;
-use super::state::{self, State};
+use super::state::{self, Interface, State};
 use super::variables::{Causality, Type, Value, Values};
 use std::ffi::CString;
 
@@ -25,6 +25,8 @@ pub type Outcome = Result<Status, Failure>;
 pub struct Instance<M: Model> {
     /// The instance name given at instantiation.
     pub name: String,
+    /// The interface type it was instantiated as.
+    pub interface: Interface,
     /// State-machine state.
     pub state: State,
     /// Logging.
@@ -38,10 +40,11 @@ pub struct Instance<M: Model> {
 }
 
 impl<M: Model> Instance<M> {
-    /// A new instance in the Instantiated state, all variables at their start values.
-    pub fn new(name: String, log: Logger, model: M) -> Instance<M> {
+    /// A new instance of `interface` in the Instantiated state, all variables at their start values.
+    pub fn new(name: String, interface: Interface, log: Logger, model: M) -> Instance<M> {
         Instance {
             name,
+            interface,
             state: State::Instantiated,
             log,
             values: Values::start(M::info().variables),
@@ -63,7 +66,8 @@ impl<M: Model> Instance<M> {
         &self.model
     }
 
-    /// The current communication time [s].
+    /// The current time [s]: the communication time (Co-Simulation) or that of `fmi2SetTime` (Model
+    /// Exchange).
     pub fn time(&self) -> f64 {
         self.time
     }
@@ -82,21 +86,37 @@ impl<M: Model> Instance<M> {
         })
     }
 
-    /// Recomputes the outputs if values changed since the last computation.
+    /// Recomputes the outputs if values changed since the last computation: in Co-Simulation by
+    /// [`Model::calculate`], in Model Exchange by [`Model::calculate_trial`] (a function of the values and
+    /// the model's state, which only [`Instance::accept`] advances).
     pub fn update(&mut self) -> Outcome {
         if !self.stale {
             return Ok(Status::Ok);
         }
-        let status = self
-            .model
-            .calculate(&mut self.values, &self.log)
-            .map_err(Failure::Failed)?;
+        let status = match self.interface {
+            Interface::CoSimulation => self.model.calculate(&mut self.values, &self.log),
+            Interface::ModelExchange => self.model.calculate_trial(&mut self.values, &self.log),
+        }
+        .map_err(Failure::Failed)?;
         self.stale = false;
         Ok(status)
     }
 
-    /// Reads values of one type. In initialization mode and at communication points, stale outputs are
-    /// recomputed first, so that outputs always belong to the current inputs.
+    /// Model Exchange: accepts the current point (after initialization, at `fmi2EnterContinuousTimeMode`
+    /// and `fmi2CompletedIntegratorStep`): brings the outputs to the current values and advances the
+    /// model's state as [`Model::calculate`] at these values would ([`Model::accept`]).
+    pub fn accept(&mut self) -> Outcome {
+        let status = self.update()?;
+        let accepted = self
+            .model
+            .accept(&self.values, &self.log)
+            .map_err(Failure::Failed)?;
+        Ok(status.max(accepted))
+    }
+
+    /// Reads values of one type. In initialization mode, at communication points and in the Model Exchange
+    /// event and continuous-time modes, stale outputs are recomputed first, so that outputs always belong
+    /// to the current inputs.
     pub fn get(&mut self, vrs: &[u32], ty: Type) -> Result<(Vec<Value>, Status), Failure> {
         let idx = vrs
             .iter()
@@ -105,8 +125,13 @@ impl<M: Model> Instance<M> {
         let table = self.values.table();
         let wants_output = idx.iter().any(|i| table[*i].causality == Causality::Output);
         let status = if wants_output
-            && matches!(self.state, State::InitializationMode | State::StepComplete)
-        {
+            && matches!(
+                self.state,
+                State::InitializationMode
+                    | State::StepComplete
+                    | State::EventMode
+                    | State::ContinuousTimeMode
+            ) {
             self.update()?
         } else {
             Status::Ok
@@ -195,11 +220,45 @@ impl<M: Model> Instance<M> {
         Ok(Status::Ok)
     }
 
-    /// `fmi2ExitInitializationMode`: computes the outputs of the current inputs.
+    /// `fmi2ExitInitializationMode`: computes the outputs of the current inputs; a Co-Simulation instance
+    /// is then at its first communication point, a Model Exchange instance in event mode with this point
+    /// accepted.
     pub fn exit_initialization_mode(&mut self) -> Outcome {
-        let status = self.update()?;
-        self.state = State::StepComplete;
+        let status = match self.interface {
+            Interface::CoSimulation => {
+                let status = self.update()?;
+                self.state = State::StepComplete;
+                status
+            }
+            Interface::ModelExchange => {
+                let status = self.accept()?;
+                self.state = State::EventMode;
+                status
+            }
+        };
         self.log.event("initialization done");
+        Ok(status)
+    }
+
+    /// `fmi2SetTime`.
+    pub fn set_time(&mut self, time: f64) -> Outcome {
+        if !time.is_finite() {
+            return Err(Failure::Rejected(format!("time {time} is not finite")));
+        }
+        self.time = time;
+        Ok(Status::Ok)
+    }
+
+    /// `fmi2EnterEventMode`.
+    pub fn enter_event_mode(&mut self) -> Outcome {
+        self.state = State::EventMode;
+        Ok(Status::Ok)
+    }
+
+    /// `fmi2EnterContinuousTimeMode`: the event's values are accepted.
+    pub fn enter_continuous_time_mode(&mut self) -> Outcome {
+        let status = self.accept()?;
+        self.state = State::ContinuousTimeMode;
         Ok(status)
     }
 
@@ -246,8 +305,17 @@ impl<M: Model> Instance<M> {
         }
     }
 
-    /// Restores a snapshot (`fmi2SetFMUstate`), state-machine state and the model's state included.
+    /// Restores a snapshot (`fmi2SetFMUstate`), state-machine state and the model's state included. A
+    /// snapshot taken in a state of the other interface type's time integration (e.g. of a Co-Simulation
+    /// instance at a communication point, into a Model Exchange instance) is refused.
     pub fn restore(&mut self, s: &Snapshot<M::State>) -> Outcome {
+        if !s.state.belongs_to(self.interface) {
+            return Err(Failure::Rejected(format!(
+                "the FMU state was taken in state {:?}, which a {} instance does not have",
+                s.state,
+                self.interface.name()
+            )));
+        }
         self.values = s.values.clone();
         self.stale = s.stale;
         self.time = s.time;

@@ -1,5 +1,5 @@
-//! A generic FMI 2.0 Co-Simulation layer: C types, state machine, instance, logging, FMU states, derivative
-//! helper and `modelDescription.xml` generation, for any [`model::Model`].
+//! A generic FMI 2.0 Co-Simulation and Model Exchange layer: C types, state machines, instance, logging,
+//! FMU states, derivative helper and `modelDescription.xml` generation, for any [`model::Model`].
 
 pub mod api;
 pub mod derivative;

@@ -1,6 +1,7 @@
-//! The model contract: what a model provides to the generic FMI layer. The layer owns the instance, the
-//! state machine, the values of all variables, logging, FMU states and the C boundary; a model only
-//! describes itself and computes its outputs from the current values.
+//! The model contract: what a model provides to the generic FMI layer (Co-Simulation and Model
+//! Exchange). The layer owns the instance, the state machines, the values of all variables, logging, FMU
+//! states and the C boundary; a model only describes itself and computes its outputs from the current
+//! values.
 
 use super::ffi::Status;
 use super::logging::Logger;
@@ -59,7 +60,7 @@ pub struct ModelInfo {
     pub default_experiment: DefaultExperiment,
 }
 
-/// A model behind the generic FMI 2.0 co-simulation layer. Every output is a function of the parameters,
+/// A model behind the generic FMI 2.0 layer. Every output is a function of the parameters,
 /// the current inputs and the model's [`Model::State`] (no continuous states): the layer recomputes outputs
 /// whenever a value changed.
 pub trait Model: Sized {
@@ -89,6 +90,17 @@ pub trait Model: Sized {
     /// Returns `Status::Ok` or `Status::Warning` (after logging the warning); `Err` is a message for
     /// `fmi2Error`.
     fn calculate(&mut self, values: &mut Values, log: &Logger) -> Result<Status, String>;
+
+    /// Computes every output as [`Model::calculate`] does, but as a function of the values and the
+    /// model's current state only: the state is left as it is, so that the same values give the same
+    /// outputs however often and in whatever order they are evaluated (Model Exchange: an implicit
+    /// integrator evaluates the outputs repeatedly within one step, e.g. in its Newton iteration).
+    fn calculate_trial(&mut self, values: &mut Values, log: &Logger) -> Result<Status, String>;
+
+    /// Advances the model's state to the one [`Model::calculate`] leaves when it starts from the current
+    /// state at `values` (Model Exchange: at an accepted point of the integration). `values` hold the
+    /// outputs of [`Model::calculate_trial`] at these values.
+    fn accept(&mut self, values: &Values, log: &Logger) -> Result<Status, String>;
 
     /// The directional derivative Σ_j ∂y_i/∂u_j·seed_j of the Real outputs `unknowns` with respect to the
     /// Real inputs `knowns` (table indices) at the current values.

@@ -6,7 +6,7 @@ use super::instance::Instance;
 use super::logging::Logger;
 use super::logging::tests::{Captured, capturing};
 use super::model::{DefaultExperiment, Model, ModelInfo, Unit};
-use super::state::State;
+use super::state::{self, Interface, State};
 use super::variables::{Causality, Kind, Type, Value, Values, Variability, Variable};
 use std::ffi::{CStr, CString, c_int};
 use std::ptr::{null, null_mut};
@@ -96,6 +96,7 @@ static INFO: ModelInfo = ModelInfo {
 
 struct Toy {
     calls: usize,
+    accepted: usize,
 }
 
 fn toy_eval(values: &Values) -> Result<Values, String> {
@@ -117,14 +118,26 @@ impl Model for Toy {
     fn state(&self) {}
     fn set_state(&mut self, _: &()) {}
     fn new(_: Option<std::path::PathBuf>) -> Self {
-        Toy { calls: 0 }
+        Toy {
+            calls: 0,
+            accepted: 0,
+        }
     }
     fn reset(&mut self) {
         self.calls = 0;
+        self.accepted = 0;
     }
     fn calculate(&mut self, values: &mut Values, _: &Logger) -> Result<Status, String> {
         self.calls += 1;
         *values = toy_eval(values)?;
+        Ok(Status::Ok)
+    }
+    // the toy remembers nothing, so a trial is a step and accepting changes nothing
+    fn calculate_trial(&mut self, values: &mut Values, log: &Logger) -> Result<Status, String> {
+        self.calculate(values, log)
+    }
+    fn accept(&mut self, _: &Values, _: &Logger) -> Result<Status, String> {
+        self.accepted += 1;
         Ok(Status::Ok)
     }
     fn directional_derivative(
@@ -142,8 +155,12 @@ impl Model for Toy {
 type Log = Captured;
 
 fn new_toy() -> (Fmi2Component, Log) {
+    new_instance(Interface::CoSimulation)
+}
+
+fn new_instance(interface: Interface) -> (Fmi2Component, Log) {
     let (logger, seen) = capturing(true);
-    let inst = Instance::new("toy".into(), logger, Toy::new(None));
+    let inst = Instance::new("toy".into(), interface, logger, Toy::new(None));
     (Box::into_raw(Box::new(inst)) as Fmi2Component, seen)
 }
 
@@ -416,10 +433,12 @@ fn strings_booleans_status_and_derivatives() {
             api::unsupported::<Toy>(
                 c,
                 "fmi2SetRealInputDerivatives",
+                state::SET_INPUT_DERIVATIVES,
                 "canInterpolateInputs=false"
             ),
             ERROR
         );
+        assert!(last_error(&seen).contains("not supported (canInterpolateInputs=false)"));
         api::free_instance::<Toy>(c);
     }
 }
@@ -446,8 +465,18 @@ fn instantiate_checks_type_guid_and_callbacks() {
         assert!(!c.is_null());
         assert_eq!(inst(c).name, "a");
         api::free_instance::<Toy>(c);
+        let me = api::instantiate::<Toy>(
+            c"me".as_ptr(),
+            FMI2_MODEL_EXCHANGE,
+            guid.as_ptr(),
+            null(),
+            &functions,
+            0,
+        );
+        assert_eq!(inst(me).interface, Interface::ModelExchange);
+        api::free_instance::<Toy>(me);
         assert!(
-            api::instantiate::<Toy>(c"a".as_ptr(), 0, guid.as_ptr(), null(), &functions, 0)
+            api::instantiate::<Toy>(c"a".as_ptr(), 2, guid.as_ptr(), null(), &functions, 0)
                 .is_null()
         );
         assert!(
@@ -484,5 +513,153 @@ fn instantiate_checks_type_guid_and_callbacks() {
             .is_null()
         );
         api::free_instance::<Toy>(null_mut());
+    }
+}
+
+fn me_init(c: Fmi2Component) {
+    unsafe {
+        assert_eq!(api::setup_experiment::<Toy>(c, 0.0), OK);
+        assert_eq!(api::enter_initialization_mode::<Toy>(c), OK);
+        assert_eq!(api::exit_initialization_mode::<Toy>(c), OK);
+    }
+}
+
+fn completed_step(c: Fmi2Component) -> c_int {
+    let (mut event, mut terminate) = (FMI2_TRUE, FMI2_TRUE);
+    let s = unsafe { api::completed_integrator_step::<Toy>(c, &mut event, &mut terminate) };
+    if s == OK {
+        assert_eq!((event, terminate), (FMI2_FALSE, FMI2_FALSE));
+    }
+    s
+}
+
+#[test]
+fn model_exchange_runs_the_standard_state_machine_and_accepts_points() {
+    let (c, seen) = new_instance(Interface::ModelExchange);
+    assert_eq!(set_real(c, GAIN, 3.0), OK);
+    me_init(c);
+    assert_eq!(inst(c).state, State::EventMode);
+    assert_eq!(inst(c).model().accepted, 1, "initialization is accepted");
+    assert_eq!(get_real(c, Y), (OK, 3.0));
+    let mut info = Fmi2EventInfo {
+        new_discrete_states_needed: FMI2_TRUE,
+        terminate_simulation: FMI2_TRUE,
+        nominals_of_continuous_states_changed: FMI2_TRUE,
+        values_of_continuous_states_changed: FMI2_TRUE,
+        next_event_time_defined: FMI2_TRUE,
+        next_event_time: 1.0,
+    };
+    unsafe {
+        assert_eq!(api::new_discrete_states::<Toy>(c, &mut info), OK);
+        assert_eq!(info.new_discrete_states_needed, FMI2_FALSE);
+        assert_eq!(info.terminate_simulation, FMI2_FALSE);
+        assert_eq!(info.next_event_time_defined, FMI2_FALSE);
+        assert_eq!(api::enter_continuous_time_mode::<Toy>(c), OK);
+        assert_eq!(inst(c).state, State::ContinuousTimeMode);
+        // outputs follow the inputs lazily within the step, without accepting
+        assert_eq!(api::set_time::<Toy>(c, 0.25), OK);
+        assert_eq!(set_real(c, U, 2.0), OK);
+        let calls = inst(c).model().calls;
+        assert_eq!(get_real(c, Y), (OK, 6.0));
+        assert_eq!(get_real(c, Y), (OK, 6.0));
+        assert_eq!(inst(c).model().calls, calls + 1);
+        assert_eq!(inst(c).model().accepted, 2);
+        assert_eq!(completed_step(c), OK);
+        assert_eq!(inst(c).model().accepted, 3);
+        assert_eq!(inst(c).time(), 0.25);
+        // no states, no event indicators: only length 0
+        for (f, name, mask) in [
+            (0, "fmi2GetDerivatives", state::GET_DERIVATIVES),
+            (1, "fmi2GetEventIndicators", state::GET_EVENT_INDICATORS),
+        ] {
+            assert_eq!(api::no_states::<Toy>(c, name, mask, "things", 0), OK, "{f}");
+            assert_eq!(api::no_states::<Toy>(c, name, mask, "things", 1), ERROR);
+            assert!(last_error(&seen).contains("has no things, but the call passes 1"));
+        }
+        assert_eq!(api::enter_event_mode::<Toy>(c), OK);
+        assert_eq!(api::enter_event_mode::<Toy>(c), OK);
+        assert_eq!(set_real(c, U, 4.0), OK);
+        assert_eq!(get_real(c, Y), (OK, 12.0));
+        assert_eq!(api::set_time::<Toy>(c, f64::NAN), ERROR);
+        assert_eq!(api::terminate::<Toy>(c), OK);
+        api::free_instance::<Toy>(c);
+    }
+}
+
+#[test]
+fn model_exchange_refuses_illegal_sequences_and_co_simulation_functions() {
+    let (c, seen) = new_instance(Interface::ModelExchange);
+    unsafe {
+        assert_eq!(api::set_time::<Toy>(c, 0.0), ERROR);
+        assert!(last_error(&seen).contains(
+            "fmi2SetTime: Illegal call sequence (the instance is in state Instantiated)"
+        ));
+        assert_eq!(api::enter_continuous_time_mode::<Toy>(c), ERROR);
+        assert_eq!(completed_step(c), ERROR);
+        me_init(c);
+        // Co-Simulation functions belong to the other interface type
+        assert_eq!(api::do_step::<Toy>(c, 0.0, 0.1), ERROR);
+        assert!(
+            last_error(&seen)
+                .contains("fmi2DoStep: Illegal call sequence (not a function of Model Exchange"),
+            "{}",
+            last_error(&seen)
+        );
+        let mut t = 0.0;
+        assert_eq!(
+            api::get_status::<Toy, f64>(
+                c,
+                "fmi2GetRealStatus",
+                FMI2_LAST_SUCCESSFUL_TIME,
+                &mut t,
+                |i, _| Some(i.time())
+            ),
+            ERROR
+        );
+        assert_eq!(api::cancel_step::<Toy>(c), ERROR);
+        assert_eq!(
+            api::unsupported::<Toy>(
+                c,
+                "fmi2GetRealOutputDerivatives",
+                state::GET_OUTPUT_DERIVATIVES,
+                "x"
+            ),
+            ERROR
+        );
+        assert!(last_error(&seen).contains("not a function of Model Exchange"));
+        // event mode: no integrator step to complete
+        assert_eq!(completed_step(c), ERROR);
+        assert!(last_error(&seen).contains("fmi2CompletedIntegratorStep: Illegal call sequence"));
+        assert_eq!(api::enter_continuous_time_mode::<Toy>(c), OK);
+        let mut info = std::mem::zeroed::<Fmi2EventInfo>();
+        assert_eq!(api::new_discrete_states::<Toy>(c, &mut info), ERROR);
+        assert_eq!(api::enter_continuous_time_mode::<Toy>(c), ERROR);
+        assert_eq!(api::enter_initialization_mode::<Toy>(c), ERROR);
+        let (mut event, mut terminate) = (0, 0);
+        assert_eq!(
+            api::completed_integrator_step::<Toy>(c, null_mut(), &mut terminate),
+            ERROR
+        );
+        assert!(last_error(&seen).contains("enterEventMode is a null pointer"));
+        assert_eq!(
+            api::completed_integrator_step::<Toy>(c, &mut event, &mut terminate),
+            OK
+        );
+        // a Co-Simulation instance's snapshot at a communication point cannot enter this instance
+        let (d, _) = new_toy();
+        init(d);
+        let mut snap: Fmi2FmuState = null_mut();
+        assert_eq!(api::get_fmu_state::<Toy>(d, &mut snap), OK);
+        assert_eq!(api::set_fmu_state::<Toy>(c, snap), ERROR);
+        assert!(last_error(&seen).contains(
+            "taken in state StepComplete, which a Model Exchange instance does not have"
+        ));
+        assert_eq!(inst(c).state, State::ContinuousTimeMode);
+        // and Model Exchange functions are refused in the Co-Simulation instance
+        assert_eq!(api::set_time::<Toy>(d, 0.0), ERROR);
+        assert_eq!(api::enter_event_mode::<Toy>(d), ERROR);
+        api::free_fmu_state::<Toy>(d, &mut snap);
+        api::free_instance::<Toy>(d);
+        api::free_instance::<Toy>(c);
     }
 }
