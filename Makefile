@@ -8,7 +8,7 @@ VENV := .venv
 VPY := $(VENV)/bin/python
 FMU := target/fmu/WheelRailFriction.fmu
 
-.PHONY: all build test test-rust test-python lint demo clean venv fmu fmu-lib model-description parameter-docs bench table slurm-test
+.PHONY: all build test test-rust test-python lint demo clean venv fmu fmu-lib model-description parameter-docs bench table slurm-test fuzz
 
 all: build
 
@@ -60,6 +60,15 @@ slurm-test:
 	tools/slurm-test.sh
 
 test: lint test-rust test-python slurm-test
+
+# the fuzzer of FMI call sequences (tests/fmu/fuzz.rs) at its full budget against the FMU's shared library:
+# crashes, hangs and broken invariants fail, with the seed and a shrunk call log (`make test` runs 4000;
+# about 4 minutes on 2 cores)
+FUZZ_SEQUENCES ?= 100000
+FUZZ_SEED ?= 16
+fuzz: fmu-lib
+	WHEELRAIL_FUZZ_SEQUENCES=$(FUZZ_SEQUENCES) WHEELRAIL_FUZZ_SEED=$(FUZZ_SEED) \
+		$(CARGO) test --release -p wheelrail --test integration fmu::fuzz::sequences -- --exact --nocapture
 
 # the MBS input trace of the trace benchmark and the demo (standard-library Python, deterministic)
 TRACE := target/mbs_trace.csv

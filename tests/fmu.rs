@@ -17,6 +17,8 @@ use std::ptr::{null, null_mut};
 use std::sync::{Arc, Mutex, OnceLock};
 use wheelrail::{OperatingPoint, Params};
 
+mod fuzz;
+
 const OK: c_int = 0;
 const WARNING: c_int = 1;
 const DISCARD: c_int = 2;

@@ -7,11 +7,13 @@
 //! # Safety
 //! Every function here trusts the importer as the FMI standard requires: a non-null component is a pointer
 //! returned by [`instantiate`] of the same model and not yet freed; arrays have the stated lengths; an
-//! instance is not used by two threads at once. Different instances are independent (no shared mutable
-//! state), so they may run on different threads.
+//! instance is not used by two threads at once. Different instances are independent (the only shared mutable
+//! state is the mutex-guarded registry of live FMU states, [`super::handles`]), so they may run on different
+//! threads. FMU-state pointers are not trusted: only live handles of this FMU are used.
 
 use super::description;
 use super::ffi::*;
+use super::handles;
 use super::instance::{Failure, Instance, Outcome};
 use super::logging::{Logger, c_sink};
 use super::model::Model;
@@ -418,24 +420,41 @@ pub unsafe fn get_fmu_state<M: Model>(
     }
 }
 
-/// Puts `s` into `*slot`, reusing a previous snapshot's allocation.
-///
-/// # Safety
-/// A non-null `*slot` is a live snapshot of this FMU.
-unsafe fn store_snapshot<S>(slot: &mut Fmi2FmuState, s: Snapshot<S>) {
-    match unsafe { (*slot as *mut Snapshot<S>).as_mut() } {
-        Some(existing) => *existing = s,
-        None => *slot = Box::into_raw(Box::new(s)) as Fmi2FmuState,
+/// Puts `s` into `*slot`: into the snapshot there if `*slot` is a live handle (`fmi2GetFMUstate` with a
+/// previous state), else into a new, registered snapshot (a null or foreign `*slot` is never written
+/// through).
+fn store_snapshot<S>(slot: &mut Fmi2FmuState, s: Snapshot<S>) {
+    let existing = *slot as *mut Snapshot<S>;
+    if handles::is_live(existing) {
+        // SAFETY: a live handle is a snapshot of type `S` allocated by this function and not yet freed.
+        unsafe { *existing = s };
+    } else {
+        let new = Box::into_raw(Box::new(s));
+        handles::register(new);
+        *slot = new as Fmi2FmuState;
     }
 }
 
-/// A snapshot from an FMU-state pointer.
+/// A snapshot from an FMU-state pointer: null, freed and foreign pointers are rejected.
 ///
 /// # Safety
-/// A non-null `s` is a live snapshot of this FMU.
+/// No snapshot is freed while the returned reference lives (one thread per instance).
 unsafe fn snapshot_ref<'a, S>(s: Fmi2FmuState) -> Result<&'a Snapshot<S>, Failure> {
-    unsafe { (s as *const Snapshot<S>).as_ref() }
-        .ok_or_else(|| Failure::Rejected("argument FMUstate is a null pointer".into()))
+    let ptr = s as *const Snapshot<S>;
+    if ptr.is_null() {
+        return Err(Failure::Rejected(
+            "argument FMUstate is a null pointer".into(),
+        ));
+    }
+    if !handles::is_live(ptr) {
+        return Err(Failure::Rejected(
+            "argument FMUstate is not a live FMU state of this FMU (already freed, or not returned by \
+             fmi2GetFMUstate or fmi2DeSerializeFMUstate)"
+                .into(),
+        ));
+    }
+    // SAFETY: a live handle points to a snapshot of type `S` (see the function's contract).
+    Ok(unsafe { &*ptr })
 }
 
 /// `fmi2SetFMUstate`.
@@ -451,22 +470,44 @@ pub unsafe fn set_fmu_state<M: Model>(c: Fmi2Component, s: Fmi2FmuState) -> Fmi2
     }
 }
 
-/// `fmi2FreeFMUstate`: frees `*state` (nothing if null) and sets it to null.
+/// `fmi2FreeFMUstate`: frees `*state` (nothing if null) and sets it to null. A `*state` that is not a live
+/// FMU state (freed before, or foreign) is rejected and nothing is freed. A master that passes the state
+/// itself instead of its address (the Reference-FMUs' `fmusim` does, see [`super::handles`]) gets it freed
+/// with `fmi2Warning` and a log line saying so.
 ///
 /// # Safety
-/// See [`get_fmu_state`].
+/// See the module documentation; a non-null `state_ptr` that is not a live FMU state points to an
+/// `fmi2FMUstate`.
 pub unsafe fn free_fmu_state<M: Model>(
     c: Fmi2Component,
     state_ptr: *mut Fmi2FmuState,
 ) -> Fmi2StatusC {
     // SAFETY: see the module documentation.
     unsafe {
-        call::<M>(c, "fmi2FreeFMUstate", state::RESET, |_| {
-            let slot = out(state_ptr, "FMUstate")?;
-            if !slot.is_null() {
-                drop(Box::from_raw(*slot as *mut Snapshot<M::State>));
-                *slot = null_mut();
+        call::<M>(c, "fmi2FreeFMUstate", state::RESET, |inst| {
+            let itself = state_ptr as *mut Snapshot<M::State>;
+            if handles::release(itself) {
+                drop(Box::from_raw(itself));
+                inst.log.warning(
+                    "fmi2FreeFMUstate: the argument is an FMU state itself, not the address of an \
+                     fmi2FMUstate variable; the state is freed, but the master's variable still holds it",
+                );
+                return Ok(Status::Warning);
             }
+            let slot = out(state_ptr, "FMUstate")?;
+            let snapshot = *slot as *mut Snapshot<M::State>;
+            if snapshot.is_null() {
+                return Ok(Status::Ok);
+            }
+            if !handles::release(snapshot) {
+                return Err(Failure::Rejected(
+                    "*FMUstate is not a live FMU state of this FMU (already freed, or not returned by \
+                     fmi2GetFMUstate or fmi2DeSerializeFMUstate); nothing is freed"
+                        .into(),
+                ));
+            }
+            drop(Box::from_raw(snapshot));
+            *slot = null_mut();
             Ok(Status::Ok)
         })
     }

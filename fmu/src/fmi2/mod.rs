@@ -5,6 +5,7 @@ pub mod api;
 pub mod derivative;
 pub mod description;
 pub mod ffi;
+pub mod handles;
 pub mod instance;
 pub mod logging;
 pub mod model;

@@ -663,3 +663,48 @@ fn model_exchange_refuses_illegal_sequences_and_co_simulation_functions() {
         api::free_instance::<Toy>(c);
     }
 }
+
+/// The Reference-FMUs' fmusim frees a state with `fmi2FreeFMUstate(c, state)` instead of `(c, &state)`
+/// (its `--final-fmu-state-file` crashed with a segmentation fault); masters may also free a state twice
+/// or pass a freed or foreign one: none of these may touch memory that is not a live snapshot.
+#[test]
+fn freed_foreign_and_misplaced_fmu_state_pointers_are_refused_not_dereferenced() {
+    let (c, seen) = new_toy();
+    init(c);
+    let mut snap: Fmi2FmuState = null_mut();
+    let warning = Status::Warning as c_int;
+    unsafe {
+        assert_eq!(api::get_fmu_state::<Toy>(c, &mut snap), OK);
+        // fmusim's call: the state itself where the address of the master's variable belongs
+        assert_eq!(
+            api::free_fmu_state::<Toy>(c, snap as *mut Fmi2FmuState),
+            warning
+        );
+        let last = seen.borrow().last().unwrap().clone();
+        assert_eq!(last.0, Status::Warning);
+        assert!(last.2.contains("FMU state itself"), "{}", last.2);
+        // the variable still holds the freed state: every use of it is refused by name
+        assert_eq!(api::set_fmu_state::<Toy>(c, snap), ERROR);
+        assert!(last_error(&seen).contains("not a live FMU state"));
+        let mut size = 0usize;
+        assert_eq!(
+            api::serialized_fmu_state_size::<Toy>(c, snap, &mut size),
+            ERROR
+        );
+        assert_eq!(api::free_fmu_state::<Toy>(c, &mut snap), ERROR);
+        assert!(last_error(&seen).contains("nothing is freed"));
+        // a pointer that was never a state: fmi2GetFMUstate does not write through it
+        let mut junk = [0u64; 4];
+        let mut foreign: Fmi2FmuState = junk.as_mut_ptr().cast();
+        assert_eq!(api::set_fmu_state::<Toy>(c, foreign), ERROR);
+        assert_eq!(api::get_fmu_state::<Toy>(c, &mut foreign), OK);
+        assert_eq!(junk, [0; 4]);
+        assert_ne!(foreign, junk.as_mut_ptr().cast());
+        assert_eq!(api::set_fmu_state::<Toy>(c, foreign), OK);
+        // the address form frees once and nulls the variable
+        assert_eq!(api::free_fmu_state::<Toy>(c, &mut foreign), OK);
+        assert!(foreign.is_null());
+        assert_eq!(api::free_fmu_state::<Toy>(c, &mut foreign), OK);
+        api::free_instance::<Toy>(c);
+    }
+}
