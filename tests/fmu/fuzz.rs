@@ -924,7 +924,10 @@ impl Exec {
             )
         };
         let valid_name = cname.as_ref().is_some_and(|n| !n.as_bytes().is_empty());
-        let should_work = valid_name && *fmu_type == 1 && *guid_ok;
+        // fmuType 0 is Model Exchange (tests/fmu/model_exchange.rs drives those); this fuzzer drives
+        // Co-Simulation instances and frees a Model Exchange one at once
+        let model_exchange = *fmu_type == 0;
+        let should_work = valid_name && (*fmu_type == 1 || model_exchange) && *guid_ok;
         self.outcome = format!(
             "instance {c:?}; logged {:?}",
             log.lock()
@@ -945,6 +948,10 @@ impl Exec {
         if !should_work {
             unsafe { (fmi().free_instance)(c) };
             return Err("an instantiation that must fail gave an instance".into());
+        }
+        if model_exchange {
+            unsafe { (fmi().free_instance)(c) };
+            return Ok(());
         }
         let name = cname.unwrap().into_string().unwrap();
         if let Some(m) = log.lock().unwrap().iter().find(|m| m.instance != name) {
