@@ -20,7 +20,7 @@
 //! time, each with a watchdog: a crash or a hang is reported with the sequence's seed. A failing sequence
 //! is shrunk (calls removed while the failure persists, each attempt in a child) and printed as the call
 //! log that reproduces it (`WHEELRAIL_FUZZ_REPLAY=<seed>` replays one seed). Budget:
-//! `WHEELRAIL_FUZZ_SEQUENCES` (default 4000, a few seconds on two cores), `WHEELRAIL_FUZZ_SEED`
+//! `WHEELRAIL_FUZZ_SEQUENCES` (default 10 000, a few seconds on two cores), `WHEELRAIL_FUZZ_SEED`
 //! (default 16); `make fuzz` runs 100 000. The tables: the small table of `tests/fixtures/small-axes.toml`
 //! (grid 6, default parameters, built once into `target/fmu-fuzz`), byte-wise corrupted and truncated
 //! copies of it, and the bundled table.
@@ -32,7 +32,7 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 use wheelrail::table::Table;
 
-const DEFAULT_SEQUENCES: u64 = 4000;
+const DEFAULT_SEQUENCES: u64 = 10_000;
 const DEFAULT_SEED: u64 = 16;
 const WORKERS: u64 = 2;
 /// A sequence running longer than this is a hang.
