@@ -473,7 +473,8 @@ pub unsafe fn set_fmu_state<M: Model>(c: Fmi2Component, s: Fmi2FmuState) -> Fmi2
 /// `fmi2FreeFMUstate`: frees `*state` (nothing if null) and sets it to null. A `*state` that is not a live
 /// FMU state (freed before, or foreign) is rejected and nothing is freed. A master that passes the state
 /// itself instead of its address (the Reference-FMUs' `fmusim` does, see [`super::handles`]) gets it freed
-/// with `fmi2Warning` and a log line saying so.
+/// and a warning log line saying so, with `fmi2OK`: nothing is left for the master to act on, and `fmusim`
+/// aborts its run (and a restart from a state file) on any status but `fmi2OK`.
 ///
 /// # Safety
 /// See the module documentation; a non-null `state_ptr` that is not a live FMU state points to an
@@ -492,7 +493,7 @@ pub unsafe fn free_fmu_state<M: Model>(
                     "fmi2FreeFMUstate: the argument is an FMU state itself, not the address of an \
                      fmi2FMUstate variable; the state is freed, but the master's variable still holds it",
                 );
-                return Ok(Status::Warning);
+                return Ok(Status::Ok);
             }
             let slot = out(state_ptr, "FMUstate")?;
             let snapshot = *slot as *mut Snapshot<M::State>;
