@@ -101,12 +101,12 @@ impl TractionField {
 /// If |p_trial| > τ_l the cell slips and |p| = τ_l. The direction e of p is, in the first slipping cell
 /// after stick (or at the leading edge), that of p_trial (FASTSIM's projection); in a cell following a
 /// slipping cell it is the exact solution of the slip-zone equation de/dt = −(w − (w·e)·e)/τ over the step
-/// (`slip_direction`, w = (ξ/L1 − φ·y/L3, η/L2 + φ·x_m/L3) frozen at the step's midpoint, τ linear).
-/// Projecting every slipping cell (Kalker's FASTSIM) is a backward-Euler step of that equation: where the
-/// rigid slip turns along the strip (spin) the traction direction lags by O(h_x) and F_y, M_z converge at
-/// first order (F_y +3.5 % at φ = 1 /m, +10 % at φ = 3 /m on 30 × 30 for the reference contact); the exact
-/// rotation makes the march second order in h_x for every creepage (docs/model.md §6.3). Under pure ξ or η
-/// the direction is constant and both are identical.
+/// (`slip_direction`; w = (ξ/L1 − φ·y/L3, η/L2 + φ·x/L3) turning uniformly between the step's ends, τ
+/// linear). Projecting every slipping cell (Kalker's FASTSIM) is a backward-Euler step of that equation:
+/// where the rigid slip turns along the strip (spin) the traction direction lags by O(h_x), and F_y, M_z
+/// converged at first order (F_y +3.5 % at φ = 1 /m, +10 % at φ = 3 /m on 30 × 30 for the reference
+/// contact). The exact turn makes the march second order in h_x for every creepage (docs/model.md §6.3).
+/// Under pure ξ or η the direction is constant and both are identical.
 /// The slip velocity is s = −V·L·max(0, (p_trial − p)·e)/Δ·e, the step's mean elastic slip along −e
 /// (magnitude V·L·(|p_trial| − τ_l)/Δ where e ∥ p_trial), with the combined flexibility L of
 /// [`Flexibilities::combined`], and q = |p|·|s|. τ_l = 0 is allowed (no traction).
@@ -172,9 +172,13 @@ pub fn fastsim(
             let magnitude = (trial_x * trial_x + trial_y * trial_y).sqrt();
             if magnitude > tau {
                 let dir = match slip_prev {
-                    Some((dir_prev, tau_prev)) => {
-                        slip_direction(dir_prev, rate, step, log_mean(tau_prev, tau))
-                    }
+                    Some((dir_prev, tau_prev)) => slip_direction(
+                        dir_prev,
+                        [rate_x, rate_y_base + spin_rate * x_prev],
+                        [rate_x, rate_y_base + spin_rate * x],
+                        step,
+                        log_mean(tau_prev, tau),
+                    ),
                     None => [trial_x / magnitude, trial_y / magnitude],
                 };
                 px = tau * dir[0];
@@ -218,36 +222,77 @@ fn log_mean(tau0: f64, tau1: f64) -> f64 {
     }
 }
 
-/// Direction e of the traction after a slipping step, the exact solution of FASTSIM's slip-zone equation
-/// de/dt = −(w − (w·e)·e)/τ (docs/model.md §6.3) over a step of length `step` = Δ [m] with the rigid-slip rate
-/// w = `rate` [Pa/m] frozen at the step's midpoint and 1/τ integrated exactly (`tau_mean` = log mean [Pa]).
-/// With u = −w/|w| and ψ the angle from u to e: tan(ψ1/2) = tan(ψ0/2)·k, k = exp(−|w|·Δ/τ_m), i.e.
-/// e1 = (((1 + c) − k²·(1 − c) − 2k·c)·u + 2k·e0)/((1 + c) + k²·(1 − c)), c = e0·u [-].
-fn slip_direction(dir: [f64; 2], rate: [f64; 2], step: f64, tau_mean: f64) -> [f64; 2] {
-    let norm = rate[0].hypot(rate[1]);
-    if norm == 0.0 {
+/// Direction e of the traction after a slipping step: the exact solution of FASTSIM's slip-zone equation
+/// de/dt = −(w − (w·e)·e)/τ (docs/model.md §6.3) over a step of length `step` = Δ [m] along the march,
+/// from `dir` = e0 [-], for a rigid-slip rate w [Pa/m] going linearly from `rate_start` to `rate_end` and the
+/// mean relaxation rate k = |w_m|/τ_m [1/m] (w_m = w at the step's midpoint, `tau_mean` = τ_m, the log mean
+/// of τ over the step [Pa]).
+///
+/// With χ the angle from the target u = −w/|w| to e, the equation reads χ' = −k·sin χ − Ω, Ω the turning
+/// rate of u [rad/m]. For constant k and Ω (u turning uniformly by the angle between its ends) this Riccati
+/// equation is solved exactly: (sin(χ/2), cos(χ/2)) evolves linearly under exp(M·Δ), M = [[−k/2, −Ω/2],
+/// [Ω/2, k/2]]. Hence e trails a turning u by its lag asin(Ω/k) where slip relaxes fast (k·Δ ≫ 1) and turns
+/// with the step's mean w where it relaxes slowly; both limits are exact and the step is second order in Δ.
+fn slip_direction(
+    dir: [f64; 2],
+    rate_start: [f64; 2],
+    rate_end: [f64; 2],
+    step: f64,
+    tau_mean: f64,
+) -> [f64; 2] {
+    let norm_end = rate_end[0].hypot(rate_end[1]);
+    let norm_mid = (rate_start[0] + rate_end[0]).hypot(rate_start[1] + rate_end[1]) * 0.5;
+    let norm_start = rate_start[0].hypot(rate_start[1]);
+    if norm_end == 0.0 || norm_start == 0.0 {
+        // No rigid slip at an end of the step: the direction is kept (a null set of steps).
         return dir;
     }
-    let u = [-rate[0] / norm, -rate[1] / norm];
-    let k = if tau_mean > 0.0 {
-        (-norm * step / tau_mean).exp()
-    } else {
-        0.0
-    };
-    let c = dir[0] * u[0] + dir[1] * u[1];
-    let denominator = (1.0 + c) + k * k * (1.0 - c);
-    if denominator <= 0.0 {
-        // e0 = −u and k = 0: the equilibrium is reached from the unstable end; any side will do.
-        return u;
+    let u_end = [-rate_end[0] / norm_end, -rate_end[1] / norm_end];
+    if tau_mean <= 0.0 {
+        // Infinitely fast relaxation: e is the target.
+        return u_end;
     }
-    let along_u = ((1.0 + c) - k * k * (1.0 - c) - 2.0 * k * c) / denominator;
-    let along_e = 2.0 * k / denominator;
-    let e = [
-        along_u * u[0] + along_e * dir[0],
-        along_u * u[1] + along_e * dir[1],
+    let u_start = [-rate_start[0] / norm_start, -rate_start[1] / norm_start];
+    let turn = (u_start[0] * u_end[1] - u_start[1] * u_end[0])
+        .atan2(u_start[0] * u_end[0] + u_start[1] * u_end[1]);
+    let k = norm_mid / tau_mean;
+    let omega = turn / step;
+    // Half-angle vector (sin(χ0/2), cos(χ0/2)) of χ0 = angle from u_start to e0.
+    let cos0 = (dir[0] * u_start[0] + dir[1] * u_start[1]).clamp(-1.0, 1.0);
+    let sin0 = u_start[0] * dir[1] - u_start[1] * dir[0];
+    let half = [
+        (0.5 * (1.0 - cos0)).sqrt().copysign(sin0),
+        (0.5 * (1.0 + cos0)).sqrt(),
     ];
-    let len = e[0].hypot(e[1]);
-    [e[0] / len, e[1] / len]
+    // exp(M·Δ) = C·I + S·M up to a positive factor: s² = (k² − Ω²)/4 decides between cosh/sinh
+    // (scaled by e^(−s·Δ) against overflow) and cos/sin.
+    let s2 = 0.25 * (k * k - omega * omega);
+    let (c, s) = if s2 >= 0.0 {
+        let sr = s2.sqrt();
+        let decay = (-2.0 * sr * step).exp();
+        let s = if sr * step > 1e-8 {
+            -(-2.0 * sr * step).exp_m1() / (2.0 * sr)
+        } else {
+            step
+        };
+        (0.5 * (1.0 + decay), s)
+    } else {
+        let sr = (-s2).sqrt();
+        let s = if sr * step > 1e-8 {
+            (sr * step).sin() / sr
+        } else {
+            step
+        };
+        ((sr * step).cos(), s)
+    };
+    let y1 = (c - 0.5 * s * k) * half[0] - 0.5 * s * omega * half[1];
+    let y2 = 0.5 * s * omega * half[0] + (c + 0.5 * s * k) * half[1];
+    let norm2 = y1 * y1 + y2 * y2;
+    let (cos1, sin1) = ((y2 * y2 - y1 * y1) / norm2, 2.0 * y1 * y2 / norm2);
+    [
+        cos1 * u_end[0] - sin1 * u_end[1],
+        cos1 * u_end[1] + sin1 * u_end[0],
+    ]
 }
 
 #[cfg(test)]
