@@ -154,32 +154,48 @@ pub fn fastsim(
     let rate_x_base = creep.xi / flex.l1;
     let rate_y_base = creep.eta / flex.l2;
     let spin_rate = creep.phi / flex.l3;
+    // Without spin the rigid slip does not turn along a strip: the traction stays along −w, the projection
+    // is then exact and the direction needs no integration.
+    let turning = creep.phi != 0.0;
     for strip in &grid.strips {
         let y = strip.y;
         let rate_x = rate_x_base - spin_rate * y;
+        // Target direction −w/|w| of the traction in slip at x (zero where w = 0).
+        let target_at = |x: f64| {
+            let w = [rate_x, rate_y_base + spin_rate * x];
+            let norm = (w[0] * w[0] + w[1] * w[1]).sqrt();
+            if norm > 0.0 {
+                [-w[0] / norm, -w[1] / norm]
+            } else {
+                [0.0; 2]
+            }
+        };
         let (mut px, mut py) = (0.0_f64, 0.0_f64);
         let mut x_prev = strip.half_length;
+        let mut target_prev = if turning { target_at(x_prev) } else { [0.0; 2] };
         // Slip direction of the previous cell and its adhesion limit, while it slipped.
         let mut slip_prev: Option<([f64; 2], f64)> = None;
         for idx in strip.cells.clone() {
             let x = grid.cells[idx].x;
             // Centres lie strictly inside the ellipse; max() only guards against rounding.
             let step = (x_prev - x).max(0.0);
-            let rate = [rate_x, rate_y_base + spin_rate * 0.5 * (x_prev + x)];
-            let trial_x = px - rate[0] * step;
-            let trial_y = py - rate[1] * step;
+            let target = if turning { target_at(x) } else { [0.0; 2] };
+            let rate_y = rate_y_base + spin_rate * 0.5 * (x_prev + x);
+            let trial_x = px - rate_x * step;
+            let trial_y = py - rate_y * step;
             let tau = tau_limit[idx];
             let magnitude = (trial_x * trial_x + trial_y * trial_y).sqrt();
             if magnitude > tau {
                 let dir = match slip_prev {
-                    Some((dir_prev, tau_prev)) => slip_direction(
+                    Some((dir_prev, tau_prev)) if turning => slip_direction(
                         dir_prev,
-                        [rate_x, rate_y_base + spin_rate * x_prev],
-                        [rate_x, rate_y_base + spin_rate * x],
-                        step,
-                        log_mean(tau_prev, tau),
+                        target_prev,
+                        target,
+                        (rate_x * rate_x + rate_y * rate_y).sqrt()
+                            * step
+                            * inverse_log_mean(tau_prev, tau),
                     ),
-                    None => [trial_x / magnitude, trial_y / magnitude],
+                    _ => [trial_x / magnitude, trial_y / magnitude],
                 };
                 px = tau * dir[0];
                 py = tau * dir[1];
@@ -201,6 +217,7 @@ pub fn fastsim(
             field.force_y += py;
             field.spin_moment += x * py - y * px;
             x_prev = x;
+            target_prev = target;
         }
     }
     let area = grid.cell_area();
@@ -210,53 +227,65 @@ pub fn fastsim(
     Ok(field)
 }
 
-/// Logarithmic mean (τ1 − τ0)/ln(τ1/τ0) of two adhesion limits [Pa]: Δ/∫dt/τ(t) for τ linear over a step
-/// of length Δ. τ0 (and the limit τ0 → τ1) where they are equal; zero if either is zero.
-fn log_mean(tau0: f64, tau1: f64) -> f64 {
+/// Reciprocal of the logarithmic mean of two adhesion limits, ln(τ1/τ0)/(τ1 − τ0) [1/Pa]: (1/Δ)·∫dt/τ(t) for τ
+/// linear over a step of length Δ. Infinite if either is zero. Near τ0 = τ1 by its series
+/// (2/(τ0 + τ1))·(1 + δ²/3 + δ⁴/5 + δ⁶/7 + δ⁸/9), δ = (τ1 − τ0)/(τ1 + τ0), truncation < δ¹⁰/11 ≤ 1e-11.
+fn inverse_log_mean(tau0: f64, tau1: f64) -> f64 {
     if tau0 <= 0.0 || tau1 <= 0.0 {
-        0.0
-    } else if (tau1 - tau0).abs() <= 1e-6 * tau0 {
-        0.5 * (tau0 + tau1)
+        return f64::INFINITY;
+    }
+    let sum = tau0 + tau1;
+    let d = (tau1 - tau0) / sum;
+    if d.abs() <= 0.1 {
+        let d2 = d * d;
+        2.0 / sum * (1.0 + d2 * (1.0 / 3.0 + d2 * (0.2 + d2 * (1.0 / 7.0 + d2 / 9.0))))
     } else {
-        (tau1 - tau0) / (tau1 / tau0).ln()
+        (tau1 / tau0).ln() / (tau1 - tau0)
+    }
+}
+
+/// Angle [rad] in (−π, π] from `from` to `to` (vectors of any length, `cross` = from × to, `dot` = from·to);
+/// for small angles (|cross| ≤ 0.1·dot) by the series of atan (truncation < t¹¹/11 ≤ 1e-12).
+fn turn_angle(cross: f64, dot: f64) -> f64 {
+    if dot > 0.0 && cross.abs() <= 0.1 * dot {
+        let t = cross / dot;
+        let t2 = t * t;
+        t * (1.0 - t2 * (1.0 / 3.0 - t2 * (0.2 - t2 * (1.0 / 7.0 - t2 / 9.0))))
+    } else {
+        cross.atan2(dot)
     }
 }
 
 /// Direction e of the traction after a slipping step: the exact solution of FASTSIM's slip-zone equation
-/// de/dt = −(w − (w·e)·e)/τ (docs/model.md §6.3) over a step of length `step` = Δ [m] along the march,
-/// from `dir` = e0 [-], for a rigid-slip rate w [Pa/m] going linearly from `rate_start` to `rate_end` and the
-/// mean relaxation rate k = |w_m|/τ_m [1/m] (w_m = w at the step's midpoint, `tau_mean` = τ_m, the log mean
-/// of τ over the step [Pa]).
+/// de/dt = −(w − (w·e)·e)/τ (docs/model.md §6.3) over a step of length Δ along the march, from `dir` = e0
+/// [-], for a rigid slip w [Pa/m] going linearly along the step, whose target directions u = −w/|w| at the
+/// step's ends are `target_start`, `target_end` [-] (zero where w = 0), and `k_step` = k·Δ [-] with the mean
+/// relaxation rate k = |w_m|/τ_m (w_m = w at the step's midpoint, 1/τ_m from [`inverse_log_mean`]).
 ///
-/// With χ the angle from the target u = −w/|w| to e, the equation reads χ' = −k·sin χ − Ω, Ω the turning
-/// rate of u [rad/m]. For constant k and Ω (u turning uniformly by the angle between its ends) this Riccati
-/// equation is solved exactly: (sin(χ/2), cos(χ/2)) evolves linearly under exp(M·Δ), M = [[−k/2, −Ω/2],
-/// [Ω/2, k/2]]. Hence e trails a turning u by its lag asin(Ω/k) where slip relaxes fast (k·Δ ≫ 1) and turns
-/// with the step's mean w where it relaxes slowly; both limits are exact and the step is second order in Δ.
+/// With χ the angle from u to e, the equation reads χ' = −k·sin χ − Ω, Ω the turning rate of u [rad/m].
+/// For constant k and Ω (u turning uniformly by the angle between its ends) this Riccati equation is
+/// solved exactly: (sin(χ/2), cos(χ/2)) evolves linearly under exp(M·Δ), M = [[−k/2, −Ω/2], [Ω/2, k/2]].
+/// Hence e trails a turning u by its lag asin(Ω/k) where slip relaxes fast (k·Δ ≫ 1) and turns with the
+/// step's mean w where it relaxes slowly; both limits are exact and the step is second order in Δ.
 fn slip_direction(
     dir: [f64; 2],
-    rate_start: [f64; 2],
-    rate_end: [f64; 2],
-    step: f64,
-    tau_mean: f64,
+    target_start: [f64; 2],
+    target_end: [f64; 2],
+    k_step: f64,
 ) -> [f64; 2] {
-    let norm_end = rate_end[0].hypot(rate_end[1]);
-    let norm_mid = (rate_start[0] + rate_end[0]).hypot(rate_start[1] + rate_end[1]) * 0.5;
-    let norm_start = rate_start[0].hypot(rate_start[1]);
-    if norm_end == 0.0 || norm_start == 0.0 {
+    let (u_start, u_end) = (target_start, target_end);
+    if u_start == [0.0; 2] || u_end == [0.0; 2] {
         // No rigid slip at an end of the step: the direction is kept (a null set of steps).
         return dir;
     }
-    let u_end = [-rate_end[0] / norm_end, -rate_end[1] / norm_end];
-    if tau_mean <= 0.0 {
-        // Infinitely fast relaxation: e is the target.
+    if !k_step.is_finite() {
+        // Infinitely fast relaxation (τ = 0): e is the target.
         return u_end;
     }
-    let u_start = [-rate_start[0] / norm_start, -rate_start[1] / norm_start];
-    let turn = (u_start[0] * u_end[1] - u_start[1] * u_end[0])
-        .atan2(u_start[0] * u_end[0] + u_start[1] * u_end[1]);
-    let k = norm_mid / tau_mean;
-    let omega = turn / step;
+    let turn = turn_angle(
+        u_start[0] * u_end[1] - u_start[1] * u_end[0],
+        u_start[0] * u_end[0] + u_start[1] * u_end[1],
+    );
     // Half-angle vector (sin(χ0/2), cos(χ0/2)) of χ0 = angle from u_start to e0.
     let cos0 = (dir[0] * u_start[0] + dir[1] * u_start[1]).clamp(-1.0, 1.0);
     let sin0 = u_start[0] * dir[1] - u_start[1] * dir[0];
@@ -264,29 +293,26 @@ fn slip_direction(
         (0.5 * (1.0 - cos0)).sqrt().copysign(sin0),
         (0.5 * (1.0 + cos0)).sqrt(),
     ];
-    // exp(M·Δ) = C·I + S·M up to a positive factor: s² = (k² − Ω²)/4 decides between cosh/sinh
-    // (scaled by e^(−s·Δ) against overflow) and cos/sin.
-    let s2 = 0.25 * (k * k - omega * omega);
+    // exp(M·Δ) = C·I + S·(M·Δ) up to a positive factor, (s·Δ)² = ((kΔ)² − (ΩΔ)²)/4 choosing cosh/sinh
+    // (scaled by e^(−s·Δ) against overflow) or cos/sin.
+    let s2 = 0.25 * (k_step * k_step - turn * turn);
     let (c, s) = if s2 >= 0.0 {
         let sr = s2.sqrt();
-        let decay = (-2.0 * sr * step).exp();
-        let s = if sr * step > 1e-8 {
-            -(-2.0 * sr * step).exp_m1() / (2.0 * sr)
+        // 1 − e^(−x), x = 2·s·Δ, by its series where exp would lose digits (relative truncation < x⁴/120).
+        let x = 2.0 * sr;
+        let rise = if x > 1e-3 {
+            1.0 - (-x).exp()
         } else {
-            step
+            x * (1.0 - x * (0.5 - x * (1.0 / 6.0 - x / 24.0)))
         };
-        (0.5 * (1.0 + decay), s)
+        (1.0 - 0.5 * rise, if sr > 0.0 { rise / x } else { 1.0 })
     } else {
         let sr = (-s2).sqrt();
-        let s = if sr * step > 1e-8 {
-            (sr * step).sin() / sr
-        } else {
-            step
-        };
-        ((sr * step).cos(), s)
+        let (sin, cos) = sr.sin_cos();
+        (cos, if sr > 1e-8 { sin / sr } else { 1.0 })
     };
-    let y1 = (c - 0.5 * s * k) * half[0] - 0.5 * s * omega * half[1];
-    let y2 = 0.5 * s * omega * half[0] + (c + 0.5 * s * k) * half[1];
+    let y1 = (c - 0.5 * s * k_step) * half[0] - 0.5 * s * turn * half[1];
+    let y2 = 0.5 * s * turn * half[0] + (c + 0.5 * s * k_step) * half[1];
     let norm2 = y1 * y1 + y2 * y2;
     let (cos1, sin1) = ((y2 * y2 - y1 * y1) / norm2, 2.0 * y1 * y2 / norm2);
     [
