@@ -549,27 +549,26 @@ mod tests {
     #[test]
     fn spin_converges_at_second_order() {
         for (xi, eta, phi) in [(0.0, 0.0, 1.0), (0.0, 0.0, 3.0), (1e-3, 1e-3, 3.0)] {
-            let results: Vec<[f64; 2]> = [30, 60, 120, 240, 480, 960]
+            let fields: Vec<TractionField> = [30, 60, 120, 240, 480, 960]
                 .iter()
-                .map(|&n| {
-                    let f = run(&case(n, n), xi, eta, phi);
-                    [f.force_y, f.spin_moment]
-                })
+                .map(|&n| run(&case(n, n), xi, eta, phi))
                 .collect();
-            for q in 0..2 {
-                let value = |k: usize| results[k][q];
+            let quantities: [(&str, fn(&TractionField) -> f64); 2] =
+                [("F_y", |f| f.force_y), ("M_z", |f| f.spin_moment)];
+            for (name, quantity) in quantities {
+                let value = |k: usize| quantity(&fields[k]);
                 let reference = value(5) + (value(5) - value(4)) / 3.0;
                 for (k, n) in [30.0_f64, 60.0, 120.0, 240.0].iter().enumerate() {
                     let error = rel(value(k), reference);
                     let bound = 5e-3 * (30.0 / n).powi(2);
                     assert!(
                         error < bound,
-                        "(ξ, η, φ) = ({xi}, {eta}, {phi}), quantity {q}, {n} cells: {error:.2e} > {bound:.2e}"
+                        "(ξ, η, φ) = ({xi}, {eta}, {phi}), {name}, {n} cells: {error:.2e} > {bound:.2e}"
                     );
                 }
                 if xi == 0.0 {
                     let ratio = (value(3) - value(4)) / (value(4) - value(5));
-                    assert!(ratio >= 3.5, "φ = {phi}, quantity {q}: ratio {ratio}");
+                    assert!(ratio >= 3.5, "φ = {phi}, {name}: ratio {ratio}");
                 }
             }
         }
