@@ -293,8 +293,8 @@ fn slip_direction(
         // No rigid slip at an end of the step: the direction is kept (a null set of steps).
         return dir;
     }
-    if !k_step.is_finite() {
-        // Infinitely fast relaxation (τ = 0): e is the target.
+    if k_step.is_nan() || k_step > 1e100 {
+        // Relaxation complete within the step (τ = 0, or e^(−k·Δ) and the lag below 1e-100): e is the target.
         return u_end;
     }
     let turn = turn_angle(
@@ -588,6 +588,53 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// `slip_direction` against a Runge–Kutta (RK4, 20 000 steps) integration of χ' = −k·sin χ − Ω for a
+    /// target turning uniformly by ΩΔ: relaxing (k > |Ω|), overtaken (|Ω| > k), stiff (kΔ = 50: χ1 = the lag
+    /// −asin(Ω/k)) and from the unstable side (χ0 near π); without turning tan(χ1/2) = tan(χ0/2)·e^(−kΔ).
+    #[test]
+    fn slip_direction_solves_the_slip_zone_equation() {
+        let angle = |t: f64| [t.cos(), t.sin()];
+        for (chi0, k_step, turn) in [
+            (1.0, 0.7, 0.3),
+            (-2.0, 0.4, -1.5),
+            (0.3, 50.0, 0.8),
+            (3.1, 2.0, 0.0),
+            (-0.5, 0.0, 2.0),
+        ] {
+            let (u0, u1) = (0.4_f64, 0.4 + turn);
+            let e = slip_direction(angle(u0 + chi0), angle(u0), angle(u1), k_step);
+            let chi1 = (e[1].atan2(e[0]) - u1 + PI).rem_euclid(2.0 * PI) - PI;
+            let n = 20_000;
+            let h = 1.0 / n as f64;
+            let rate = |c: f64| -k_step * c.sin() - turn;
+            let mut c = chi0;
+            for _ in 0..n {
+                let k1 = rate(c);
+                let k2 = rate(c + 0.5 * h * k1);
+                let k3 = rate(c + 0.5 * h * k2);
+                let k4 = rate(c + h * k3);
+                c += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+            }
+            let want = (c + PI).rem_euclid(2.0 * PI) - PI;
+            assert!(
+                (chi1 - want).abs() < 1e-9,
+                "{chi0}, {k_step}, {turn}: {chi1} vs {want}"
+            );
+            if turn == 0.0 {
+                let closed = 2.0 * ((0.5 * chi0).tan() * (-k_step).exp()).atan();
+                assert!((chi1 - closed).abs() < 1e-12);
+            }
+            if k_step == 50.0 {
+                assert!((chi1 + (turn / k_step).asin()).abs() < 1e-12);
+            }
+        }
+        // τ = 0 (infinite k): the target itself.
+        assert_eq!(
+            slip_direction(angle(2.0), angle(0.0), [0.0, 1.0], f64::INFINITY),
+            [0.0, 1.0]
+        );
     }
 
     /// Frictional power: q ≥ 0 everywhere, zero in pure rolling and in stick; at full slip the slip
