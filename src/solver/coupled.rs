@@ -7,11 +7,12 @@
 
 use super::assembly::{Iterate, assemble};
 use super::backtracking::Backtracking;
+use super::cache::SetupCache;
 use super::closed_form::solve_polach;
 use super::local::{Adhesion, Local};
 use super::relaxation::Relaxation;
 use super::report::{Limiter, SolverReport, Termination, first_unmet};
-use super::setup::{Setup, normal_contact};
+use super::setup::Setup;
 use super::solution::Solution;
 use super::warm::WarmStart;
 use crate::error::{Error, Result, Stage};
@@ -37,17 +38,23 @@ pub fn solve_from(
     warm: Option<&WarmStart>,
 ) -> Result<Solution> {
     params.validate()?;
-    solve_validated(params, point, warm)
+    solve_cached(params, point, warm, &SetupCache::default())
 }
 
-/// [`solve_from`] with parameters that have passed [`Params::validate`] (the point is validated here).
-pub(crate) fn solve_validated(
+/// [`solve_from`] with parameters that have passed [`Params::validate`] (the point is validated here),
+/// taking the set-up's contact shape, microcontact model and heat model from `cache` where it holds them
+/// for this solve's inputs (and leaving this solve's there): the same bits as without the cache
+/// ([`SetupCache`]).
+pub(crate) fn solve_cached(
     params: &Params,
     point: &OperatingPoint,
     warm: Option<&WarmStart>,
+    cache: &SetupCache,
 ) -> Result<Solution> {
     point.validate()?;
-    let hertz = normal_contact(params, point.normal_force)?;
+    let hertz = cache
+        .shape(&params.geometry, &params.material)?
+        .contact(point.normal_force)?;
     let mat0 = params.material.at(params.material.bulk_temperature);
     let kalker = kalker_coefficients(hertz.a, hertz.b, mat0.poisson)?;
     let creep = Creepages {
@@ -58,7 +65,7 @@ pub(crate) fn solve_validated(
     if params.friction.law == FrictionLaw::Polach {
         return solve_polach(params, point, &hertz, &kalker, creep);
     }
-    let setup = Setup::new(params, point, hertz, &mat0, &kalker, creep)?;
+    let setup = Setup::new(params, point, hertz, &mat0, &kalker, creep, cache)?;
     let iterate = Coupled::start(&setup, warm).run()?;
     Ok(assemble(&setup, iterate))
 }
@@ -77,6 +84,8 @@ struct Coupled<'s, 'w> {
     film: Option<FilmSolution>,
     /// The warm start's film, the start of the first iteration's film only.
     warm_film: Option<FilmStart<'w>>,
+    /// Whether the temperature started from a warm start's (see [`Coupled::film_tolerance`]).
+    warm_temperature: bool,
     /// The last heat partition: the start of the next one.
     heat_solution: Option<HeatSolution>,
     relaxation: Relaxation,
@@ -102,8 +111,9 @@ impl<'s, 'w> Coupled<'s, 'w> {
     /// only when it feeds back (heat on, Tomberger law).
     fn start(setup: &'s Setup<'s>, warm: Option<&'w WarmStart>) -> Self {
         let warm = warm.filter(|w| w.fits(&setup.grid));
+        let warm_temperature = warm.is_some() && setup.temperature_feeds_back();
         let temperature = match warm {
-            Some(w) if setup.temperature_feeds_back() => w.temperature.clone(),
+            Some(w) if warm_temperature => w.temperature.clone(),
             _ => vec![setup.bulk_temperature(); setup.grid.len()],
         };
         Self {
@@ -113,6 +123,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
             prev_tau: None,
             film: None,
             warm_film: warm.and_then(WarmStart::film),
+            warm_temperature,
             heat_solution: None,
             relaxation: Relaxation::new(setup.params.solver.relaxation),
             backtracking: Backtracking::default(),
@@ -197,11 +208,20 @@ impl<'s, 'w> Coupled<'s, 'w> {
     /// The film tolerance of this iteration (an inexact inner solve): while the temperature still moves,
     /// the film need only be as accurate as the outer iteration; once the outer residual is within 100×
     /// the tolerance (the next iteration may be the last) the film is solved to the full fluid tolerance.
+    /// Before the first residual (no adhesion limit to compare with yet) the temperature counts as moving
+    /// from a cold start and as settled from a warm start's temperature, whose film, solved to the full
+    /// tolerance from the warm film, lets the second iteration be the last.
     fn film_tolerance(&self) -> f64 {
         let solver = &self.setup.params.solver;
         let fluid_tol = solver.fluid_tolerance;
-        if self.setup.temperature_feeds_back() && self.report.residual > 1e2 * solver.tolerance {
-            (1e-2 * self.report.residual).clamp(fluid_tol, fluid_tol.max(1e-5))
+        let residual = self.report.residual;
+        let moving = if residual.is_finite() {
+            residual > 1e2 * solver.tolerance
+        } else {
+            !self.warm_temperature
+        };
+        if self.setup.temperature_feeds_back() && moving {
+            (1e-2 * residual).clamp(fluid_tol, fluid_tol.max(1e-5))
         } else {
             fluid_tol
         }
