@@ -86,6 +86,8 @@ struct Coupled<'s, 'w> {
     warm_film: Option<FilmStart<'w>>,
     /// Whether the temperature started from a warm start's (see [`Coupled::film_tolerance`]).
     warm_temperature: bool,
+    /// The temperature part of the last outer residual (∞ before the first).
+    temperature_change: f64,
     /// The last heat partition: the start of the next one.
     heat_solution: Option<HeatSolution>,
     relaxation: Relaxation,
@@ -124,6 +126,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
             film: None,
             warm_film: warm.and_then(WarmStart::film),
             warm_temperature,
+            temperature_change: f64::INFINITY,
             heat_solution: None,
             relaxation: Relaxation::new(setup.params.solver.relaxation),
             backtracking: Backtracking::default(),
@@ -145,7 +148,9 @@ impl<'s, 'w> Coupled<'s, 'w> {
                 .zip(&self.temperature)
                 .map(|(t, tc)| t - tc)
                 .collect();
-            self.report.residual = self.outer_residual(&step, &increment);
+            let (temperature_change, tau_change) = self.outer_changes(&step, &increment);
+            self.temperature_change = temperature_change;
+            self.report.residual = temperature_change.max(tau_change);
             let solver = &self.setup.params.solver;
             let outer_met = self.report.residual <= solver.tolerance;
             let unmet = first_unmet(
@@ -208,19 +213,17 @@ impl<'s, 'w> Coupled<'s, 'w> {
     /// The film tolerance of this iteration (an inexact inner solve): while the temperature still moves,
     /// the film need only be as accurate as the outer iteration; once the outer residual is within 100×
     /// the tolerance (the next iteration may be the last) the film is solved to the full fluid tolerance.
-    /// Before the first residual (no adhesion limit to compare with yet) the temperature counts as moving
-    /// from a cold start and as settled from a warm start's temperature, whose film, solved to the full
-    /// tolerance from the warm film, lets the second iteration be the last.
+    /// From a warm start's temperature, the second iteration (whose residual is still ∞: the first
+    /// adhesion limit has no predecessor) goes by the first one's temperature change instead: a warm step
+    /// whose temperature has not moved solves its film to the full tolerance and can end there.
     fn film_tolerance(&self) -> f64 {
         let solver = &self.setup.params.solver;
         let fluid_tol = solver.fluid_tolerance;
-        let residual = self.report.residual;
-        let moving = if residual.is_finite() {
-            residual > 1e2 * solver.tolerance
-        } else {
-            !self.warm_temperature
+        let residual = match self.report.residual {
+            r if r.is_infinite() && self.warm_temperature => self.temperature_change,
+            r => r,
         };
-        if self.setup.temperature_feeds_back() && moving {
+        if self.setup.temperature_feeds_back() && residual > 1e2 * solver.tolerance {
             (1e-2 * residual).clamp(fluid_tol, fluid_tol.max(1e-5))
         } else {
             fluid_tol
@@ -302,12 +305,13 @@ impl<'s, 'w> Coupled<'s, 'w> {
         Ok((t, q_wheel))
     }
 
-    /// The outer residual: the larger of the relative change of τ_l since the last iteration and of the
-    /// relative temperature increment (its largest value over the largest rise above T0, at least 1 K);
-    /// 0 when the temperature does not feed back (one pass is the solution).
-    fn outer_residual(&self, step: &Step, increment: &[f64]) -> f64 {
+    /// The two parts of the outer residual (the larger of them): the relative temperature increment (its
+    /// largest value over the largest rise above T0, at least 1 K) and the relative change of τ_l since
+    /// the last iteration (∞ at the first); both 0 when the temperature does not feed back (one pass is
+    /// the solution).
+    fn outer_changes(&self, step: &Step, increment: &[f64]) -> (f64, f64) {
         if !self.setup.temperature_feeds_back() {
-            return 0.0;
+            return (0.0, 0.0);
         }
         let tau_l = &step.adhesion.limit;
         let tau_scale = tau_l
@@ -322,7 +326,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
         let t0 = self.setup.bulk_temperature();
         let rise_scale = step.target.iter().map(|t| t - t0).fold(1.0, f64::max);
         let t_change = increment.iter().fold(0.0, |m: f64, d| m.max(d.abs())) / rise_scale;
-        t_change.max(tau_change)
+        (t_change, tau_change)
     }
 
     /// Prepares the next iteration: the relaxed temperature update, and this iteration's adhesion limit,
