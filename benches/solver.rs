@@ -123,7 +123,7 @@ fn grid_scaling(c: &mut Criterion) {
 
 /// One exact step of an MBS run per grid (n × n cells) at ξ = 1 %, 30 m/s, 100 kN, dry and wet, as the
 /// FMU's exact mode takes it (`Model::solve_from`, the model keeping its set-up):
-/// - `cold`: no warm start;
+/// - `cold`: no warm start (the same point every time, so with the set-up reused);
 /// - `warm`: from the state of the step before, a 1 kHz step earlier: load +1 %, speed −0.5 mm/s, ξ
 ///   +0.1 % (relative), so the contact and the surface speeds change and the set-up is made anew, as in an
 ///   MBS run (the steps alternate between the two points);
