@@ -1,8 +1,8 @@
 //! Set-up reused between solves: the parts of a solve's set-up that depend only on the geometry, the
 //! grid, the surface speeds and the parameters, kept with the inputs they were made from.
 //!
-//! Each entry is a pure function of its key (the complete inputs of its constructor, floats compared bit
-//! for bit), so a solve with a cached set-up gives the same bits as one without, whatever was solved
+//! Each entry is a pure function of its key (the bit patterns of every number its constructor reads), so
+//! a solve with a cached set-up gives the same bits as one without, whatever was solved
 //! before: the cache changes no result and is part of no state. One entry per kind (the last one made):
 //! the contact shape of a geometry (docs/model.md §2), the microcontact model of the roughness (§4) and
 //! the heat model of a grid and a pair of surface speeds (§7), which is most of the fixed cost of a
@@ -20,22 +20,65 @@ use std::sync::{Arc, Mutex, PoisonError};
 
 use super::setup::ContactShape;
 
-/// The inputs of a heat model: grid (semi-axes as bits, cell counts), surface speeds (bits), material.
+/// Bit patterns of floats: equal keys are equal inputs (unlike `==`, which equates 0.0 and −0.0).
+fn bits<const N: usize>(values: [f64; N]) -> [u64; N] {
+    values.map(f64::to_bits)
+}
+
+/// The inputs of a contact shape ([`ContactShape::of`]): curvatures A, B, the prescribed semi-axes (if
+/// any) and E* at the bulk temperature.
+#[derive(Debug, PartialEq)]
+struct ShapeKey {
+    curvatures: [u64; 2],
+    semi_axes: Option<[u64; 2]>,
+    e_star: u64,
+}
+
+impl ShapeKey {
+    fn new(geometry: &Geometry, material: &Material) -> Self {
+        Self {
+            curvatures: bits([geometry.curvature_x, geometry.curvature_y]),
+            semi_axes: geometry.semi_axes.map(bits),
+            e_star: material.at(material.bulk_temperature).e_star.to_bits(),
+        }
+    }
+}
+
+/// The inputs of a microcontact model ([`Microcontact::new`]): every field of the roughness (destructured,
+/// so that a new field cannot be left out of the key).
+fn roughness_key(r: &Roughness) -> [u64; 6] {
+    let Roughness {
+        k_r,
+        z_s_smooth,
+        z_s_span,
+        ratio_smooth,
+        ratio_span,
+        beta,
+    } = *r;
+    bits([k_r, z_s_smooth, z_s_span, ratio_smooth, ratio_span, beta])
+}
+
+/// The inputs of a heat model ([`HeatModel::new`]): the grid (semi-axes, cell counts), the surface speeds
+/// and the material's conductivity, density and specific heat.
 #[derive(Debug, PartialEq)]
 struct HeatKey {
     semi_axes: [u64; 2],
     cells: [usize; 2],
     speeds: [u64; 2],
-    material: Material,
+    thermal: [u64; 3],
 }
 
 impl HeatKey {
     fn new(grid: &ContactGrid, v_wheel: f64, v_rail: f64, material: &Material) -> Self {
         Self {
-            semi_axes: [grid.a.to_bits(), grid.b.to_bits()],
+            semi_axes: bits([grid.a, grid.b]),
             cells: [grid.nx, grid.ny],
-            speeds: [v_wheel.to_bits(), v_rail.to_bits()],
-            material: material.clone(),
+            speeds: bits([v_wheel, v_rail]),
+            thermal: bits([
+                material.conductivity,
+                material.density,
+                material.specific_heat,
+            ]),
         }
     }
 }
@@ -43,8 +86,8 @@ impl HeatKey {
 /// The entries, each with the inputs it was made from.
 #[derive(Debug, Default)]
 struct Entries {
-    shape: Option<((Geometry, Material), ContactShape)>,
-    micro: Option<(Roughness, Arc<Microcontact>)>,
+    shape: Option<(ShapeKey, ContactShape)>,
+    micro: Option<([u64; 6], Arc<Microcontact>)>,
     heat: Option<(HeatKey, Arc<HeatModel>)>,
     /// How many set-ups were taken from the cache (shape, microcontact and heat model counted alike).
     hits: usize,
@@ -90,7 +133,7 @@ impl SetupCache {
         get_or_make(
             self,
             |e| &mut e.shape,
-            (geometry.clone(), material.clone()),
+            ShapeKey::new(geometry, material),
             || ContactShape::of(geometry, material),
         )
     }
@@ -100,7 +143,7 @@ impl SetupCache {
         get_or_make(
             self,
             |e| &mut e.micro,
-            roughness.clone(),
+            roughness_key(roughness),
             || Microcontact::new(roughness).map(Arc::new),
         )
     }
