@@ -1,6 +1,7 @@
 //! Time per operating point of the exact solver and of the fast alternatives (Table 1 conditions, single
-//! thread), a 50-point traction–creepage sweep with warm starts, and the exact dry point against the grid
-//! size (for the scaling exponent). `make bench` prints all of them with their ratio to Polach.
+//! thread), a 50-point traction–creepage sweep with warm starts, the exact dry point against the grid
+//! size (for the scaling exponent), and one exact MBS step per grid, cold and warm (`exact_step`).
+//! `make bench` prints all of them with their ratio to Polach.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -120,10 +121,64 @@ fn grid_scaling(c: &mut Criterion) {
     g.finish();
 }
 
+/// One exact step of an MBS run per grid (n × n cells) at ξ = 1 %, 30 m/s, 100 kN, dry and wet, as the
+/// FMU's exact mode takes it (`Model::solve_from`, the model keeping its set-up):
+/// - `cold`: no warm start (the same point every time, so with the set-up reused);
+/// - `warm`: from the state of the step before, a 1 kHz step earlier: load +1 %, speed −0.5 mm/s, ξ
+///   +0.1 % (relative), so the contact and the surface speeds change and the set-up is made anew, as in an
+///   MBS run (the steps alternate between the two points);
+/// - `warm_same_contact`: as `warm` with only η changing (±1e-4), so the contact and the surface speeds are
+///   the last step's and the set-up (heat model above all) is reused: the cost of the outer iterations
+///   alone.
+fn exact_step(c: &mut Criterion) {
+    let mut g = c.benchmark_group("exact_step");
+    g.sample_size(10)
+        .warm_up_time(std::time::Duration::from_millis(500))
+        .measurement_time(std::time::Duration::from_secs(2));
+    for n in [9, 15, 20, 30] {
+        let mut params = Params::default();
+        params.grid.nx = n;
+        params.grid.ny = n;
+        let model = wheelrail::Model::new(params).expect("valid parameters");
+        for wetness in [0.0, 1.0] {
+            let label = if wetness > 0.0 { "wet" } else { "dry" };
+            let a = point(0.01, wetness);
+            let next = OperatingPoint {
+                normal_force: a.normal_force * 1.01,
+                speed: a.speed - 5e-4,
+                creepage_x: a.creepage_x * 1.001,
+                ..a
+            };
+            let other_eta = OperatingPoint {
+                creepage_y: 1e-4,
+                ..a
+            };
+            g.bench_function(format!("{n}x{n}/{label}/cold"), |b| {
+                b.iter(|| model.solve(black_box(&a)).unwrap())
+            });
+            for (name, pair) in [("warm", [a, next]), ("warm_same_contact", [a, other_eta])] {
+                let mut warm = model.solve(&pair[0]).unwrap().warm_start();
+                let mut k = 0;
+                g.bench_function(format!("{n}x{n}/{label}/{name}"), |b| {
+                    b.iter(|| {
+                        k += 1;
+                        let s = model
+                            .solve_from(black_box(&pair[k % 2]), warm.as_ref())
+                            .unwrap();
+                        warm = s.warm_start();
+                        s.report.iterations
+                    })
+                });
+            }
+        }
+    }
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     // no plots: criterion's plotting backend needs system fonts
     config = Criterion::default().without_plots();
-    targets = points, sweeps, grid_scaling
+    targets = points, sweeps, grid_scaling, exact_step
 }
 criterion_main!(benches);

@@ -30,21 +30,35 @@ use crate::error::Result;
 use crate::params::{Geometry, OperatingPoint, Params};
 /// Where an exact solve can start from (the state of a nearby solution), as the evaluator takes it.
 pub use crate::solver::WarmStart;
-use crate::solver::{self, Solution};
+use crate::solver::{self, SetupCache, Solution};
 use std::borrow::Cow;
+use std::sync::Arc;
 
 /// The model for one parameter set: the parameters are validated once, when it is made, and every solve
-/// uses them as they are.
-#[derive(Debug, Clone, PartialEq)]
+/// uses them as they are. It keeps the set-up of its last solve ([`SetupCache`]: contact shape,
+/// microcontact and heat model), shared with its clones, for the next solve with the same contact and
+/// surface speeds; a pure function of its inputs, so no result depends on it (models compare by their
+/// parameters).
+#[derive(Debug, Clone)]
 pub struct Model {
     params: Params,
+    cache: Arc<SetupCache>,
+}
+
+impl PartialEq for Model {
+    fn eq(&self, other: &Model) -> bool {
+        self.params == other.params
+    }
 }
 
 impl Model {
     /// The model of `params`, validated (an [`crate::Error::OutOfRange`] names the first bad value).
     pub fn new(params: Params) -> Result<Model> {
         params.validate()?;
-        Ok(Model { params })
+        Ok(Model {
+            params,
+            cache: Arc::default(),
+        })
     }
 
     /// The (validated) parameter set.
@@ -57,9 +71,16 @@ impl Model {
         self.solve_from(point, None)
     }
 
-    /// Solves one operating point starting from a nearby solution's state ([`solver::solve_from`]).
+    /// Solves one operating point starting from a nearby solution's state ([`solver::solve_from`]), with
+    /// the set-up kept from the last solve where its inputs are unchanged (bit for bit the same result).
     pub fn solve_from(&self, point: &OperatingPoint, warm: Option<&WarmStart>) -> Result<Solution> {
-        solver::solve_from(&self.params, point, warm)
+        solver::coupled::solve_cached(&self.params, point, warm, &self.cache)
+    }
+
+    /// How many set-up parts (contact shape, microcontact, heat model) this model's solves, and its
+    /// clones', have reused.
+    pub fn setup_reuses(&self) -> usize {
+        self.cache.hits()
     }
 
     /// Solves a sequence of nearby operating points with warm starts, in parallel chains
@@ -80,6 +101,9 @@ impl Model {
         if let Some(t) = tolerance {
             params.solver.tolerance = params.solver.tolerance.min(t);
         }
-        Cow::Owned(Model { params })
+        Cow::Owned(Model {
+            params,
+            cache: Arc::clone(&self.cache),
+        })
     }
 }

@@ -689,3 +689,134 @@ fn an_invalid_geometry_is_an_error_naming_it() {
     assert_eq!(r.patch.semi_axis_a, 0.0);
     assert_eq!(r.frictional_power(), Some(0.0));
 }
+
+/// A solution's every number, bit for bit: Rust's `Debug` prints each f64 as the shortest decimal that
+/// reads back to the same bits, so equal strings are equal bits (global results, every field, report).
+fn all_bits(s: &crate::Solution) -> String {
+    format!("{s:?}")
+}
+
+#[test]
+fn a_reused_setup_gives_the_bits_of_a_fresh_one() {
+    let model = Model::new(params()).unwrap();
+    let dry = OperatingPoint {
+        wetness: 0.0,
+        ..inside()
+    };
+    let other_eta = OperatingPoint {
+        creepage_y: 0.002,
+        ..dry
+    };
+    let wet = OperatingPoint {
+        wetness: 0.8,
+        ..other_eta
+    };
+    let other_xi = OperatingPoint {
+        creepage_x: 0.004,
+        ..wet
+    };
+    let other_load = OperatingPoint {
+        normal_force: 90e3,
+        ..other_xi
+    };
+    // (point, geometry, set-up parts reused: shape, microcontact and heat model when the contact and
+    // the surface speeds are the last solve's; shape and microcontact when only the speeds or the load
+    // changed; only the microcontact for another geometry)
+    let steps = [
+        (dry, params().geometry, 0),
+        (other_eta, params().geometry, 3),
+        (wet, params().geometry, 3),
+        (other_xi, params().geometry, 2),
+        (other_load, params().geometry, 2),
+        (other_load, flange_root(), 1),
+        (other_load, flange_root(), 3),
+        (dry, params().geometry, 1),
+    ];
+    let mut warm = None;
+    for (k, (point, geometry, reused)) in steps.into_iter().enumerate() {
+        let before = model.setup_reuses();
+        let with = model.with(&geometry, None);
+        let cached = with.solve_from(&point, warm.as_ref()).unwrap();
+        assert_eq!(model.setup_reuses() - before, reused, "step {k}");
+        let mut fresh = params();
+        fresh.geometry = geometry;
+        let uncached = crate::solver::solve_from(&fresh, &point, warm.as_ref()).unwrap();
+        assert_eq!(all_bits(&cached), all_bits(&uncached), "step {k}");
+        // and a cold solve is the same whatever the cache holds
+        let cold = crate::solver::solve(&fresh, &point).unwrap();
+        assert_eq!(
+            all_bits(&with.solve(&point).unwrap()),
+            all_bits(&cold),
+            "step {k}"
+        );
+        warm = cached.warm_start();
+    }
+}
+
+/// Largest difference of the global results of two solutions: forces relative to F_N, temperature rise
+/// and fluid load share relative to themselves.
+fn global_difference(a: &crate::Solution, b: &crate::Solution) -> f64 {
+    let (a, b) = (&a.global, &b.global);
+    let t0 = params().material.bulk_temperature;
+    let rise = |x: Option<f64>| x.unwrap() - t0;
+    [
+        (a.force_x - b.force_x).abs() / a.normal_force,
+        (a.force_y - b.force_y).abs() / a.normal_force,
+        (rise(a.max_temperature) - rise(b.max_temperature)).abs() / rise(a.max_temperature),
+        (a.fluid_load_fraction.unwrap() - b.fluid_load_fraction.unwrap()).abs()
+            / a.fluid_load_fraction.unwrap().max(1e-3),
+    ]
+    .into_iter()
+    .fold(0.0, f64::max)
+}
+
+#[test]
+fn a_warm_step_needs_two_iterations_on_an_unchanged_input_and_agrees_with_a_cold_one() {
+    let mut p = params();
+    p.grid.nx = 9;
+    p.grid.ny = 9;
+    let model = Model::new(p).unwrap();
+    let tolerance = params().solver.tolerance;
+    for wetness in [0.0, 0.5, 1.0] {
+        let point = OperatingPoint {
+            creepage_x: 0.02,
+            wetness,
+            ..inside()
+        };
+        let cold = model.solve(&point).unwrap();
+        let same = model
+            .solve_from(&point, cold.warm_start().as_ref())
+            .unwrap();
+        assert!(
+            same.report.converged && same.report.iterations <= 2,
+            "w = {wetness}: {:?}",
+            same.report
+        );
+        assert!(
+            global_difference(&same, &cold) <= tolerance,
+            "w = {wetness}"
+        );
+        // the next step of a 1 kHz MBS run: load, speed and creepage moved a little (the temperature by
+        // about 1 %, which the outer iteration's contraction, ~0.02 per iteration here, takes three more
+        // iterations to settle to the tolerance)
+        let next = OperatingPoint {
+            normal_force: point.normal_force * 1.01,
+            speed: point.speed - 5e-4,
+            creepage_x: point.creepage_x * 1.001,
+            ..point
+        };
+        let warm = model.solve_from(&next, cold.warm_start().as_ref()).unwrap();
+        let fresh = model.solve(&next).unwrap();
+        assert!(
+            warm.report.converged && warm.report.iterations < fresh.report.iterations,
+            "w = {wetness}: {:?} from the last step's state, {:?} cold",
+            warm.report,
+            fresh.report
+        );
+        assert!(
+            global_difference(&warm, &fresh) <= tolerance,
+            "w = {wetness}: {}",
+            global_difference(&warm, &fresh)
+        );
+    }
+}

@@ -7,11 +7,12 @@
 
 use super::assembly::{Iterate, assemble};
 use super::backtracking::Backtracking;
+use super::cache::SetupCache;
 use super::closed_form::solve_polach;
 use super::local::{Adhesion, Local};
 use super::relaxation::Relaxation;
 use super::report::{Limiter, SolverReport, Termination, first_unmet};
-use super::setup::{Setup, normal_contact};
+use super::setup::Setup;
 use super::solution::Solution;
 use super::warm::WarmStart;
 use crate::error::{Error, Result, Stage};
@@ -37,17 +38,23 @@ pub fn solve_from(
     warm: Option<&WarmStart>,
 ) -> Result<Solution> {
     params.validate()?;
-    solve_validated(params, point, warm)
+    solve_cached(params, point, warm, &SetupCache::default())
 }
 
-/// [`solve_from`] with parameters that have passed [`Params::validate`] (the point is validated here).
-pub(crate) fn solve_validated(
+/// [`solve_from`] with parameters that have passed [`Params::validate`] (the point is validated here),
+/// taking the set-up's contact shape, microcontact model and heat model from `cache` where it holds them
+/// for this solve's inputs (and leaving this solve's there): the same bits as without the cache
+/// ([`SetupCache`]).
+pub(crate) fn solve_cached(
     params: &Params,
     point: &OperatingPoint,
     warm: Option<&WarmStart>,
+    cache: &SetupCache,
 ) -> Result<Solution> {
     point.validate()?;
-    let hertz = normal_contact(params, point.normal_force)?;
+    let hertz = cache
+        .shape(&params.geometry, &params.material)?
+        .contact(point.normal_force)?;
     let mat0 = params.material.at(params.material.bulk_temperature);
     let kalker = kalker_coefficients(hertz.a, hertz.b, mat0.poisson)?;
     let creep = Creepages {
@@ -58,7 +65,7 @@ pub(crate) fn solve_validated(
     if params.friction.law == FrictionLaw::Polach {
         return solve_polach(params, point, &hertz, &kalker, creep);
     }
-    let setup = Setup::new(params, point, hertz, &mat0, &kalker, creep)?;
+    let setup = Setup::new(params, point, hertz, &mat0, &kalker, creep, cache)?;
     let iterate = Coupled::start(&setup, warm).run()?;
     Ok(assemble(&setup, iterate))
 }
@@ -77,6 +84,10 @@ struct Coupled<'s, 'w> {
     film: Option<FilmSolution>,
     /// The warm start's film, the start of the first iteration's film only.
     warm_film: Option<FilmStart<'w>>,
+    /// Whether the temperature started from a warm start's (see [`Coupled::film_tolerance`]).
+    warm_temperature: bool,
+    /// The temperature part of the last outer residual (∞ before the first).
+    temperature_change: f64,
     /// The last heat partition: the start of the next one.
     heat_solution: Option<HeatSolution>,
     relaxation: Relaxation,
@@ -102,8 +113,9 @@ impl<'s, 'w> Coupled<'s, 'w> {
     /// only when it feeds back (heat on, Tomberger law).
     fn start(setup: &'s Setup<'s>, warm: Option<&'w WarmStart>) -> Self {
         let warm = warm.filter(|w| w.fits(&setup.grid));
+        let warm_temperature = warm.is_some() && setup.temperature_feeds_back();
         let temperature = match warm {
-            Some(w) if setup.temperature_feeds_back() => w.temperature.clone(),
+            Some(w) if warm_temperature => w.temperature.clone(),
             _ => vec![setup.bulk_temperature(); setup.grid.len()],
         };
         Self {
@@ -113,6 +125,8 @@ impl<'s, 'w> Coupled<'s, 'w> {
             prev_tau: None,
             film: None,
             warm_film: warm.and_then(WarmStart::film),
+            warm_temperature,
+            temperature_change: f64::INFINITY,
             heat_solution: None,
             relaxation: Relaxation::new(setup.params.solver.relaxation),
             backtracking: Backtracking::default(),
@@ -134,7 +148,9 @@ impl<'s, 'w> Coupled<'s, 'w> {
                 .zip(&self.temperature)
                 .map(|(t, tc)| t - tc)
                 .collect();
-            self.report.residual = self.outer_residual(&step, &increment);
+            let (temperature_change, tau_change) = self.outer_changes(&step, &increment);
+            self.temperature_change = temperature_change;
+            self.report.residual = temperature_change.max(tau_change);
             let solver = &self.setup.params.solver;
             let outer_met = self.report.residual <= solver.tolerance;
             let unmet = first_unmet(
@@ -197,11 +213,18 @@ impl<'s, 'w> Coupled<'s, 'w> {
     /// The film tolerance of this iteration (an inexact inner solve): while the temperature still moves,
     /// the film need only be as accurate as the outer iteration; once the outer residual is within 100×
     /// the tolerance (the next iteration may be the last) the film is solved to the full fluid tolerance.
+    /// From a warm start's temperature, the second iteration (whose residual is still ∞: the first
+    /// adhesion limit has no predecessor) goes by the first one's temperature change instead: a warm step
+    /// whose temperature has not moved solves its film to the full tolerance and can end there.
     fn film_tolerance(&self) -> f64 {
         let solver = &self.setup.params.solver;
         let fluid_tol = solver.fluid_tolerance;
-        if self.setup.temperature_feeds_back() && self.report.residual > 1e2 * solver.tolerance {
-            (1e-2 * self.report.residual).clamp(fluid_tol, fluid_tol.max(1e-5))
+        let residual = match self.report.residual {
+            r if r.is_infinite() && self.warm_temperature => self.temperature_change,
+            r => r,
+        };
+        if self.setup.temperature_feeds_back() && residual > 1e2 * solver.tolerance {
+            (1e-2 * residual).clamp(fluid_tol, fluid_tol.max(1e-5))
         } else {
             fluid_tol
         }
@@ -282,12 +305,13 @@ impl<'s, 'w> Coupled<'s, 'w> {
         Ok((t, q_wheel))
     }
 
-    /// The outer residual: the larger of the relative change of τ_l since the last iteration and of the
-    /// relative temperature increment (its largest value over the largest rise above T0, at least 1 K);
-    /// 0 when the temperature does not feed back (one pass is the solution).
-    fn outer_residual(&self, step: &Step, increment: &[f64]) -> f64 {
+    /// The two parts of the outer residual (the larger of them): the relative temperature increment (its
+    /// largest value over the largest rise above T0, at least 1 K) and the relative change of τ_l since
+    /// the last iteration (∞ at the first); both 0 when the temperature does not feed back (one pass is
+    /// the solution).
+    fn outer_changes(&self, step: &Step, increment: &[f64]) -> (f64, f64) {
         if !self.setup.temperature_feeds_back() {
-            return 0.0;
+            return (0.0, 0.0);
         }
         let tau_l = &step.adhesion.limit;
         let tau_scale = tau_l
@@ -302,7 +326,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
         let t0 = self.setup.bulk_temperature();
         let rise_scale = step.target.iter().map(|t| t - t0).fold(1.0, f64::max);
         let t_change = increment.iter().fold(0.0, |m: f64, d| m.max(d.abs())) / rise_scale;
-        t_change.max(tau_change)
+        (t_change, tau_change)
     }
 
     /// Prepares the next iteration: the relaxed temperature update, and this iteration's adhesion limit,

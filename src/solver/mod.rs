@@ -9,12 +9,16 @@
 //! produces at high slip power, and backtracked where the film has no solution (`backtracking.rs`); the
 //! final iterate gives the global results and the local fields (`assembly.rs`). The closed-form Polach law
 //! needs no iteration (`closed_form.rs`). A solve can start from a nearby solution ([`WarmStart`]); sweeps
-//! chain such starts ([`solve_sweep`]). Every solve reports how it went ([`SolverReport`], [`Termination`]).
+//! chain such starts ([`solve_sweep`]). What the set-up makes from the geometry, the grid, the surface
+//! speeds and the parameters alone can be kept between solves ([`SetupCache`], pure functions of their
+//! inputs). Every solve reports how it went ([`SolverReport`], [`Termination`]).
 
 mod assembly;
 mod backtracking;
+mod cache;
 mod closed_form;
-/// The outer iteration; `coupled::solve_validated` solves with parameters validated beforehand.
+/// The outer iteration; `coupled::solve_cached` solves with parameters validated beforehand and a
+/// [`SetupCache`].
 pub(crate) mod coupled;
 mod local;
 mod relaxation;
@@ -24,6 +28,7 @@ mod solution;
 mod sweep;
 mod warm;
 
+pub use cache::SetupCache;
 pub use coupled::{solve, solve_from};
 pub use report::{Limiter, SolverReport, Termination};
 pub use setup::{ContactShape, normal_contact, surface_speeds};

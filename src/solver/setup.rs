@@ -1,6 +1,7 @@
 //! What stays fixed while one operating point is solved: the normal contact, the grid with its nominal
 //! pressures, the FASTSIM flexibilities, the microcontact model and the heat model.
 
+use super::cache::SetupCache;
 use crate::contact::{ContactGrid, HertzContact, HertzShape};
 use crate::error::Result;
 use crate::fluid::base_height;
@@ -9,6 +10,7 @@ use crate::microcontact::Microcontact;
 use crate::params::{FrictionLaw, Geometry, Material, OperatingPoint, Params};
 use crate::tangential::{Creepages, Flexibilities, KalkerCoefficients};
 use crate::thermal::HeatModel;
+use std::sync::Arc;
 
 /// The load-independent part of the nominal normal contact of a geometry (docs/model.md §2): the Hertz
 /// shape of the curvatures with E* at the bulk temperature, or the prescribed semi-axes. Made once per
@@ -75,17 +77,18 @@ pub(super) struct Setup<'a> {
     /// Nominal pressure per cell: the parabola with the Hertz force [Pa].
     pub p_n: Vec<f64>,
     /// The microcontact model of the roughness.
-    pub micro: Microcontact,
+    pub micro: Arc<Microcontact>,
     /// Cell base height d_b (P7) [m].
     pub base_height: f64,
     /// The heat model (None with heat switched off or in pure rolling, where nothing heats).
-    pub heat: Option<HeatModel>,
+    pub heat: Option<Arc<HeatModel>>,
 }
 
 impl<'a> Setup<'a> {
     /// The grid of the contact `hertz` with its parabolic pressure, the flexibilities from the Kalker
     /// coefficients and the shear modulus of `mat0` (the material at the bulk temperature), the heat model
-    /// at the surface speeds and the microcontact model of the roughness.
+    /// at the surface speeds and the microcontact model of the roughness, the last two from `cache` when
+    /// it holds them for these inputs.
     pub fn new(
         params: &'a Params,
         point: &'a OperatingPoint,
@@ -93,6 +96,7 @@ impl<'a> Setup<'a> {
         mat0: &MaterialState,
         kalker: &KalkerCoefficients,
         creep: Creepages,
+        cache: &SetupCache,
     ) -> Result<Self> {
         let grid = ContactGrid::for_contact(&hertz, params.grid.nx, params.grid.ny);
         let flex = Flexibilities::new(hertz.a, hertz.b, mat0.shear_modulus, kalker);
@@ -104,11 +108,11 @@ impl<'a> Setup<'a> {
         let rolling = creep.xi == 0.0 && creep.eta == 0.0 && creep.phi == 0.0;
         let heat = if params.solver.heat && !rolling {
             let (v_wheel, v_rail) = surface_speeds(point);
-            Some(HeatModel::new(&grid, v_wheel, v_rail, &params.material)?)
+            Some(cache.heat_model(&grid, v_wheel, v_rail, &params.material)?)
         } else {
             None
         };
-        let micro = Microcontact::new(&params.roughness)?;
+        let micro = cache.microcontact(&params.roughness)?;
         Ok(Self {
             params,
             point,
