@@ -1,0 +1,605 @@
+//! Kalker's exact ("complete") theory of steady rolling with a local traction bound per cell
+//! (docs/model.md §6.4; J.J. Kalker, *Three-dimensional elastic bodies in rolling contact*, Kluwer 1990,
+//! ch. 2 and 5; E.A.H. Vollebregt, *User guide for CONTACT*, the discretisation of module 3).
+//!
+//! **Discretisation.** Piecewise constant tractions p_J = [p_x, p_y] on the cells of the rectangular
+//! [`ContactGrid`]; quasi-identical bodies (wheel and rail of one steel), so the tangential problem
+//! decouples from the normal one. The surface displacement difference (wheel minus rail) at the centre of
+//! cell I is u_I = Σ_J A(x_I − x_J, y_I − y_J)·p_J with Cerruti's point-load solution integrated over the
+//! cell in closed form ([`influence`]).
+//!
+//! **Steady rolling.** Material flows through the contact in −x at the rolling speed V (leading edge at
+//! x = +a, as in FASTSIM). The slip of the wheel relative to the rail, per V, is
+//! s/V = w − ∂u/∂x with the rigid slip w = (ξ − φ·y, η + φ·x) (docs/model.md §1); the derivative is the
+//! upwind difference over one cell, s_I/V = w_I + (u_I − u(x_I + h_x, y_I))/h_x (Kalker's steady-state
+//! scheme: the displacement of the previous time step shifted by one cell, time step h_x/V), so
+//! s_I/V = w_I + Σ_J B_IJ·p_J with B(d) = (A(d) − A(d + h_x·e_x))/h_x.
+//!
+//! **Contact conditions** per cell, with the traction bound g_I ≥ 0 (μ·p_n, or the model's τ_l): either
+//! stick, s_I = 0 and |p_I| ≤ g_I, or slip, |p_I| = g_I and s_I = −λ·p_I, λ ≥ 0 (the traction on the wheel
+//! opposes its slip).
+//!
+//! **Solver.** Gauss–Seidel over the cells in the order of the material flow (strips from the leading edge
+//! backwards, as Kalker's and Vollebregt's steady-state solvers sweep): each cell solves its own 2 × 2
+//! problem exactly given the others' tractions ([`local_problem`]), and the slips of all cells are updated by
+//! the change. Convergence: the largest change of a traction in a sweep, relative to the largest bound.
+
+use super::fastsim::{Creepages, TractionField};
+use crate::contact::{ContactGrid, Strip};
+use crate::error::{Error, Result, check_finite, check_positive, check_range};
+use std::f64::consts::PI;
+
+/// Influence coefficients of one grid, per cell offset (a function of the grid's cell size, the number of
+/// cells and the elastic constants only: build once per grid and material, reuse for every creepage).
+#[derive(Debug, Clone)]
+pub struct SteadyRolling {
+    nx: usize,
+    ny: usize,
+    /// Row length of the offset tables, 2·nx.
+    width: usize,
+    /// A_xx, A_xy (= A_yx), A_yy divided by h_x [1/Pa], indexed by the offset of the **source** cell from
+    /// the **target** cell: e = (i_s − i_t) + nx (i_s ≥ −1: a strip's released cell lies one behind its
+    /// trailing cell), f = (j_s − j_t) + ny − 1, at e + width·f. Along a strip (i descending) the index of
+    /// one source rises by one per target cell.
+    a_xx: Vec<f64>,
+    a_xy: Vec<f64>,
+    a_yy: Vec<f64>,
+}
+
+/// Solver settings of [`SteadyRolling::solve`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ExactSettings {
+    /// Convergence tolerance: largest traction change in a sweep over the largest bound [-].
+    pub tolerance: f64,
+    /// Largest number of Gauss–Seidel sweeps.
+    pub max_sweeps: usize,
+}
+
+impl Default for ExactSettings {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-10,
+            max_sweeps: 500,
+        }
+    }
+}
+
+/// Result of [`SteadyRolling::solve`]: the traction field (as FASTSIM's, so the heat model takes either) and
+/// how the solve went.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExactTraction {
+    /// Resultants, tractions, slip velocities, power density and slip flags per cell.
+    pub field: TractionField,
+    /// Gauss–Seidel sweeps done.
+    pub sweeps: usize,
+    /// Largest traction change of the last sweep over the largest bound [-].
+    pub residual: f64,
+    /// Whether the residual reached the tolerance within `max_sweeps`.
+    pub converged: bool,
+}
+
+/// ∫∫ of Cerruti's surface kernels over a rectangle, as corner functions F(X, Y) of the offset of the
+/// target from a rectangle corner [m] (the double integral is F(X₂,Y₂) − F(X₁,Y₂) − F(X₂,Y₁) + F(X₁,Y₁)):
+/// ∫∫ dA/r = X·ln(Y + r) + Y·ln(X + r), ∫∫ X²/r³ dA = Y·ln(X + r), ∫∫ X·Y/r³ dA = −r, with
+/// X·ln(Y + r) = X·asinh(Y/|X|) + X·ln|X| and the last term cancelling between the corners of one X.
+/// Returns the corner values of the xx, xy and yy kernels for Poisson ratio `nu`: (1 − ν)/r + ν·X²/r³,
+/// ν·X·Y/r³, (1 − ν)/r + ν·Y²/r³ (K.L. Johnson, *Contact Mechanics*, 1985, eq. 2.19, z = 0, without the
+/// normal component, which cancels between quasi-identical bodies).
+fn corner(x: f64, y: f64, nu: f64) -> [f64; 3] {
+    // X·asinh(Y/|X|) → 0 as X → 0 (and likewise with X, Y exchanged)
+    let xa = if x == 0.0 {
+        0.0
+    } else {
+        x * (y / x.abs()).asinh()
+    };
+    let ya = if y == 0.0 {
+        0.0
+    } else {
+        y * (x / y.abs()).asinh()
+    };
+    let r = x.hypot(y);
+    [(1.0 - nu) * xa + ya, -nu * r, (1.0 - nu) * ya + xa]
+}
+
+/// Displacement difference (wheel minus rail) [m] at offset (dx, dy) [m] from the centre of a cell of size
+/// hx × hy [m] carrying a unit traction [Pa] on the wheel (and its opposite on the rail): [A_xx, A_xy, A_yy]
+/// (A_yx = A_xy), two half-spaces of shear modulus G [Pa] and Poisson ratio ν: the factor 2·1/(2πG) of
+/// Cerruti's solution integrated over the cell ([`corner`]).
+pub fn influence(dx: f64, dy: f64, hx: f64, hy: f64, shear_modulus: f64, nu: f64) -> [f64; 3] {
+    let (x1, x2) = (dx - 0.5 * hx, dx + 0.5 * hx);
+    let (y1, y2) = (dy - 0.5 * hy, dy + 0.5 * hy);
+    let c22 = corner(x2, y2, nu);
+    let c12 = corner(x1, y2, nu);
+    let c21 = corner(x2, y1, nu);
+    let c11 = corner(x1, y1, nu);
+    let scale = 1.0 / (PI * shear_modulus);
+    std::array::from_fn(|k| scale * (c22[k] - c12[k] - c21[k] + c11[k]))
+}
+
+/// The cell's own 2 × 2 problem (Kalker's element problem): given r = s/V of the cell without its own
+/// traction's contribution, the diagonal [d_x, d_y] (> 0) of its self-influence and the bound g ≥ 0, the
+/// traction p and slip s/V = r + D·p with stick (s = 0, |p| ≤ g) or slip (|p| = g, s = −t·p, t ≥ 0).
+/// In slip p_k = −r_k/(d_k + t) with t the root of Σ_k r_k²/(d_k + t)² = g², found by Newton on the convex,
+/// decreasing |p(t)| − g from the lower end of its bracket [max(0, |r|/g − d_max), |r|/g − d_min].
+fn local_problem(r: [f64; 2], d: [f64; 2], g: f64) -> ([f64; 2], [f64; 2], bool) {
+    let stick = [-r[0] / d[0], -r[1] / d[1]];
+    if stick[0].hypot(stick[1]) <= g {
+        return (stick, [0.0; 2], false);
+    }
+    if g == 0.0 {
+        return ([0.0; 2], r, true);
+    }
+    let rn = r[0].hypot(r[1]);
+    let mut t = (rn / g - d[0].max(d[1])).max(0.0);
+    for _ in 0..50 {
+        let (q0, q1) = (1.0 / (d[0] + t), 1.0 / (d[1] + t));
+        let (p0, p1) = (r[0] * q0, r[1] * q1);
+        let norm = p0.hypot(p1);
+        // d|p|/dt = −(p0²·q0 + p1²·q1)/|p|
+        let slope = -(p0 * p0 * q0 + p1 * p1 * q1) / norm;
+        let step = (norm - g) / slope;
+        t -= step;
+        if step.abs() <= 1e-15 * (t + d[0]) {
+            break;
+        }
+    }
+    let p = [-r[0] / (d[0] + t), -r[1] / (d[1] + t)];
+    // the slip follows from the converged t (so that it is exactly antiparallel to p)
+    (p, [-t * p[0], -t * p[1]], true)
+}
+
+impl SteadyRolling {
+    /// The influence tables of `grid` for two bodies of shear modulus G [Pa] and Poisson ratio ν
+    /// (`shear_modulus`, `poisson`): A at every offset between cells, and to the cell behind each strip's
+    /// trailing cell, from [`influence`].
+    pub fn new(grid: &ContactGrid, shear_modulus: f64, poisson: f64) -> Result<Self> {
+        check_positive("shear modulus", shear_modulus, "Pa")?;
+        check_range("Poisson ratio", poisson, 0.0, 0.5, "")?;
+        let (nx, ny, hx, hy) = (grid.nx, grid.ny, grid.hx, grid.hy);
+        let width = 2 * nx;
+        let height = 2 * ny - 1;
+        let mut a = [
+            vec![0.0; width * height],
+            vec![0.0; width * height],
+            vec![0.0; width * height],
+        ];
+        for f in 0..height {
+            // target minus source: −(j_s − j_t)·h_y
+            let dy = -((f as f64) - (ny as f64 - 1.0)) * hy;
+            for e in 0..width {
+                let dx = -((e as f64) - nx as f64) * hx;
+                let here = influence(dx, dy, hx, hy, shear_modulus, poisson);
+                for k in 0..3 {
+                    a[k][e + width * f] = here[k] / hx;
+                }
+            }
+        }
+        let [a_xx, a_xy, a_yy] = a;
+        Ok(Self {
+            nx,
+            ny,
+            width,
+            a_xx,
+            a_xy,
+            a_yy,
+        })
+    }
+
+    /// Index into the tables of a source in column `i_s` (−1: behind the first column) and row `j_s`, seen
+    /// from the target in column `i_t`, row `j_t`.
+    fn offset(&self, i_s: isize, j_s: usize, i_t: usize, j_t: usize) -> usize {
+        (i_s + self.nx as isize - i_t as isize) as usize + self.width * (j_s + self.ny - 1 - j_t)
+    }
+
+    /// Column of the released cell of `strip`: one behind its trailing cell.
+    fn released(grid: &ContactGrid, strip: &Strip) -> isize {
+        grid.cells[strip.cells.end - 1].i as isize - 1
+    }
+
+    /// The diagonal of cell `k`'s own coefficient M_kk = (A(0) − A(x_k − x_r))/h_x (x_r its strip's released
+    /// cell) [m/Pa per m].
+    fn own(&self, grid: &ContactGrid, k: usize, released: isize) -> [f64; 2] {
+        let c = grid.cells[k];
+        let here = self.offset(c.i as isize, c.j, c.i, c.j);
+        let behind = self.offset(released, c.j, c.i, c.j);
+        [
+            self.a_xx[here] - self.a_xx[behind],
+            self.a_yy[here] - self.a_yy[behind],
+        ]
+    }
+
+    /// Steady rolling at creepages `creep` and rolling speed `speed` [m/s] with the traction bound
+    /// `bound` = g per cell [Pa] (docs/model.md §6.4), started from `start` (the tractions of a previous
+    /// solve on the same grid, [Pa]) or zero. Errors on a grid other than this operator's, non-finite
+    /// creepages or start tractions, bounds that are negative or not finite.
+    pub fn solve(
+        &self,
+        grid: &ContactGrid,
+        creep: Creepages,
+        speed: f64,
+        bound: &[f64],
+        start: Option<&[[f64; 2]]>,
+        settings: ExactSettings,
+    ) -> Result<ExactTraction> {
+        check_finite("creepage xi", creep.xi, "")?;
+        check_finite("creepage eta", creep.eta, "")?;
+        check_finite("spin creepage phi", creep.phi, "1/m")?;
+        check_positive("speed", speed, "m/s")?;
+        if grid.nx != self.nx || grid.ny != self.ny {
+            return Err(Error::OutOfRange {
+                name: "contact grid of the steady-rolling operator".into(),
+                value: format!("{} × {}", grid.nx, grid.ny),
+                allowed: format!("the operator's grid {} × {}", self.nx, self.ny),
+            });
+        }
+        let n = grid.len();
+        for (what, len) in [
+            ("traction bound (number of values)", Some(bound.len())),
+            ("start tractions (number of values)", start.map(<[_]>::len)),
+        ] {
+            if let Some(len) = len.filter(|&l| l != n) {
+                return Err(Error::OutOfRange {
+                    name: what.into(),
+                    value: len.to_string(),
+                    allowed: format!("one value per grid cell ({n})"),
+                });
+            }
+        }
+        if let Some(&bad) = bound.iter().find(|g| !(g.is_finite() && **g >= 0.0)) {
+            return Err(Error::out_of_range(
+                "traction bound",
+                bad,
+                "finite, >= 0 Pa",
+            ));
+        }
+        if let Some(bad) = start
+            .into_iter()
+            .flatten()
+            .flatten()
+            .find(|v| !v.is_finite())
+        {
+            return Err(Error::out_of_range("start traction", *bad, "finite Pa"));
+        }
+        // tractions p (a start beyond this solve's bound is scaled onto it), their increments q along the
+        // flow, and s/V of every cell at these increments
+        let mut p: Vec<[f64; 2]> = match start {
+            Some(s) => s
+                .iter()
+                .zip(bound)
+                .map(|(p, &g)| {
+                    let m = p[0].hypot(p[1]);
+                    if m > g {
+                        [p[0] * g / m, p[1] * g / m]
+                    } else {
+                        *p
+                    }
+                })
+                .collect(),
+            None => vec![[0.0; 2]; n],
+        };
+        let mut s: Vec<[f64; 2]> = grid
+            .cells
+            .iter()
+            .map(|c| [creep.xi - creep.phi * c.y, creep.eta + creep.phi * c.x])
+            .collect();
+        for strip in &grid.strips {
+            let released = Self::released(grid, strip);
+            let mut upstream = [0.0; 2];
+            for k in strip.cells.clone() {
+                let q = [p[k][0] - upstream[0], p[k][1] - upstream[1]];
+                if q != [0.0; 2] {
+                    self.spread(grid, k, released, q, &mut s);
+                }
+                upstream = p[k];
+            }
+        }
+        let mut slipping = vec![false; n];
+        let mut sweeps = 0;
+        let mut residual = f64::INFINITY;
+        while sweeps < settings.max_sweeps {
+            sweeps += 1;
+            let mut largest = 0.0_f64;
+            for strip in &grid.strips {
+                let released = Self::released(grid, strip);
+                let mut upstream = [0.0; 2];
+                for k in strip.cells.clone() {
+                    let d = self.own(grid, k, released);
+                    // s_k = r + M_kk·(p_k − p_upstream), r without cell k's own increment
+                    let q_old = [p[k][0] - upstream[0], p[k][1] - upstream[1]];
+                    let r = [
+                        s[k][0] - d[0] * (q_old[0] + upstream[0]),
+                        s[k][1] - d[1] * (q_old[1] + upstream[1]),
+                    ];
+                    let (pk, _, slip) = local_problem(r, d, bound[k]);
+                    slipping[k] = slip;
+                    let change = [pk[0] - p[k][0], pk[1] - p[k][1]];
+                    if change != [0.0; 2] {
+                        largest = largest.max(change[0].hypot(change[1]));
+                        self.spread(grid, k, released, change, &mut s);
+                        // the increment of cell k moves every traction downstream of it
+                        for t in &mut p[k..strip.cells.end] {
+                            t[0] += change[0];
+                            t[1] += change[1];
+                        }
+                    }
+                    upstream = p[k];
+                }
+            }
+            let scale = p.iter().fold(0.0_f64, |m, q| m.max(q[0].hypot(q[1])));
+            residual = if scale > 0.0 { largest / scale } else { 0.0 };
+            if residual <= settings.tolerance {
+                break;
+            }
+        }
+        Ok(ExactTraction {
+            field: self.field(grid, &p, &s, &slipping, speed),
+            sweeps,
+            converged: residual <= settings.tolerance,
+            residual,
+        })
+    }
+
+    /// Adds to every cell's s/V the change that an increment change `change` [Pa] of cell `source` causes:
+    /// (A(x − x_source) − A(x − x_released))·change/h_x, the increment entering at the source and leaving
+    /// behind its strip's trailing cell (column `released`).
+    fn spread(
+        &self,
+        grid: &ContactGrid,
+        source: usize,
+        released: isize,
+        change: [f64; 2],
+        s: &mut [[f64; 2]],
+    ) {
+        let src = grid.cells[source];
+        for strip in &grid.strips {
+            let first = grid.cells[strip.cells.start].i;
+            let here = self.offset(src.i as isize, src.j, first, strip.j);
+            let gone = self.offset(released, src.j, first, strip.j);
+            let len = strip.cells.len();
+            let (hxx, hxy, hyy) = (
+                &self.a_xx[here..here + len],
+                &self.a_xy[here..here + len],
+                &self.a_yy[here..here + len],
+            );
+            let (gxx, gxy, gyy) = (
+                &self.a_xx[gone..gone + len],
+                &self.a_xy[gone..gone + len],
+                &self.a_yy[gone..gone + len],
+            );
+            for (m, t) in s[strip.cells.clone()].iter_mut().enumerate() {
+                let (xx, xy, yy) = (hxx[m] - gxx[m], hxy[m] - gxy[m], hyy[m] - gyy[m]);
+                t[0] += xx * change[0] + xy * change[1];
+                t[1] += xy * change[0] + yy * change[1];
+            }
+        }
+    }
+
+    /// The traction field of tractions `p` [Pa] and slips per V `s` at rolling speed `speed` [m/s].
+    fn field(
+        &self,
+        grid: &ContactGrid,
+        p: &[[f64; 2]],
+        s: &[[f64; 2]],
+        slipping: &[bool],
+        speed: f64,
+    ) -> TractionField {
+        let area = grid.cell_area();
+        let (mut fx, mut fy, mut mz) = (0.0, 0.0, 0.0);
+        for (c, q) in grid.cells.iter().zip(p) {
+            fx += q[0];
+            fy += q[1];
+            mz += c.x * q[1] - c.y * q[0];
+        }
+        let slip_velocity: Vec<[f64; 2]> = s
+            .iter()
+            .zip(slipping)
+            .map(|(v, &sl)| {
+                if sl {
+                    [speed * v[0], speed * v[1]]
+                } else {
+                    [0.0; 2]
+                }
+            })
+            .collect();
+        let power_density = p
+            .iter()
+            .zip(&slip_velocity)
+            .map(|(q, v)| q[0].hypot(q[1]) * v[0].hypot(v[1]))
+            .collect();
+        TractionField {
+            force_x: fx * area,
+            force_y: fy * area,
+            spin_moment: mz * area,
+            traction: p.to_vec(),
+            slip_velocity,
+            power_density,
+            slipping: slipping.to_vec(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::HertzContact;
+    use crate::tangential::kalker_coefficients;
+
+    // the reference contact of contact-exact values: F_N = 100 kN, a = 5.87814 mm, b = 10.53911 mm
+    const A: f64 = 5.87814e-3;
+    const B: f64 = 10.53911e-3;
+    const FN: f64 = 100e3;
+    const NU: f64 = 0.28;
+    const G: f64 = 210e9 / (2.0 * 1.28);
+    const V: f64 = 30.0;
+
+    /// Hertz's ellipsoidal pressure p0·sqrt(1 − x²/a² − y²/b²) at the cell centres, times μ.
+    fn hertz_bound(grid: &ContactGrid, mu: f64) -> Vec<f64> {
+        let h = HertzContact::from_semi_axes(grid.a, grid.b, FN).unwrap();
+        grid.cells
+            .iter()
+            .map(|c| {
+                let s = 1.0 - (c.x / grid.a).powi(2) - (c.y / grid.b).powi(2);
+                mu * h.p0 * s.max(0.0).sqrt()
+            })
+            .collect()
+    }
+
+    fn solve(grid: &ContactGrid, op: &SteadyRolling, creep: Creepages, mu: f64) -> ExactTraction {
+        let bound = hertz_bound(grid, mu);
+        let r = op
+            .solve(grid, creep, V, &bound, None, ExactSettings::default())
+            .unwrap();
+        assert!(r.converged, "{} sweeps, residual {}", r.sweeps, r.residual);
+        r
+    }
+
+    /// The closed-form cell integral against Gauss–Legendre quadrature of Cerruti's kernel over the cell,
+    /// at offsets where the kernel is smooth over the cell.
+    #[test]
+    fn influence_matches_quadrature() {
+        let (hx, hy) = (0.4e-3, 0.7e-3);
+        // 8-point Gauss–Legendre on [−1, 1]
+        let nodes = [
+            (0.183_434_642_495_649_8, 0.362_683_783_378_362),
+            (0.525_532_409_916_329, 0.313_706_645_877_887_3),
+            (0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
+            (0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
+        ];
+        let gl: Vec<(f64, f64)> = nodes.iter().flat_map(|&(x, w)| [(x, w), (-x, w)]).collect();
+        for (dx, dy) in [(3.0e-3, 1.0e-3), (-2.0e-3, 4.0e-3), (1.5e-3, -2.2e-3)] {
+            let mut q = [0.0; 3];
+            for &(u, wu) in &gl {
+                for &(v, wv) in &gl {
+                    let x = dx - 0.5 * hx * u;
+                    let y = dy - 0.5 * hy * v;
+                    let r = x.hypot(y);
+                    let w = wu * wv * 0.25 * hx * hy / (PI * G);
+                    q[0] += w * ((1.0 - NU) / r + NU * x * x / r.powi(3));
+                    q[1] += w * NU * x * y / r.powi(3);
+                    q[2] += w * ((1.0 - NU) / r + NU * y * y / r.powi(3));
+                }
+            }
+            let c = influence(dx, dy, hx, hy, G, NU);
+            for k in 0..3 {
+                assert!(
+                    (c[k] - q[k]).abs() <= 1e-9 * q[0].abs(),
+                    "component {k} at ({dx}, {dy}): {} vs {}",
+                    c[k],
+                    q[k]
+                );
+            }
+        }
+        // the self-influence is finite, positive and symmetric
+        let c = influence(0.0, 0.0, hx, hy, G, NU);
+        assert!(c[0] > 0.0 && c[2] > 0.0 && c[1] == 0.0);
+    }
+
+    /// The element problem: stick inside the bound, otherwise |p| = g with s antiparallel to p.
+    #[test]
+    fn local_problem_stick_and_slip() {
+        let d = [2.0, 3.0];
+        let (p, s, slip) = local_problem([1.0, -1.5], d, 10.0);
+        assert!(!slip && s == [0.0; 2]);
+        assert_eq!(p, [-0.5, 0.5]);
+        for r in [[4.0, 1.0], [-1.0, 7.0], [0.0, -5.0], [3.0, 0.0]] {
+            let (p, s, slip) = local_problem(r, d, 0.5);
+            assert!(slip);
+            assert!((p[0].hypot(p[1]) - 0.5).abs() < 1e-14);
+            // s = r + D·p and s = −t·p with t ≥ 0
+            let sr = [r[0] + d[0] * p[0], r[1] + d[1] * p[1]];
+            assert!((sr[0] - s[0]).abs() < 1e-13 && (sr[1] - s[1]).abs() < 1e-13);
+            assert!(s[0] * p[1] - s[1] * p[0] == 0.0 || (s[0] * p[1] - s[1] * p[0]).abs() < 1e-13);
+            assert!(s[0] * p[0] + s[1] * p[1] <= 0.0);
+        }
+    }
+
+    /// Full stick (no bound) reproduces Kalker's linear theory, F_x = −G·c²·C11·ξ, F_y = −G·c²·C22·η,
+    /// F_y = −G·c³·C23·φ (Kalker 1990, Table E.3), for a/b = 0.5, 1, 2: Richardson's extrapolation of two
+    /// grids (the scheme is first order in h_x) within 1 %.
+    #[test]
+    fn linear_theory_reproduces_kalker_coefficients() {
+        for ratio in [0.5, 1.0, 2.0] {
+            let c = 8e-3;
+            let (a, b) = (c * f64::sqrt(ratio), c / f64::sqrt(ratio));
+            let k = kalker_coefficients(a, b, NU).unwrap();
+            let small = 1e-7;
+            let forces = |n: usize| {
+                let grid = ContactGrid::new(a, b, n, n);
+                let op = SteadyRolling::new(&grid, G, NU).unwrap();
+                let free = vec![1e300; grid.len()];
+                let run = |creep| {
+                    let r = op
+                        .solve(&grid, creep, V, &free, None, ExactSettings::default())
+                        .unwrap();
+                    assert!(r.converged);
+                    r.field
+                };
+                let fx = run(Creepages {
+                    xi: small,
+                    eta: 0.0,
+                    phi: 0.0,
+                });
+                let fy = run(Creepages {
+                    xi: 0.0,
+                    eta: small,
+                    phi: 0.0,
+                });
+                let fs = run(Creepages {
+                    xi: 0.0,
+                    eta: 0.0,
+                    phi: small / c,
+                });
+                [
+                    -fx.force_x / (G * c * c * small),
+                    -fy.force_y / (G * c * c * small),
+                    -fs.force_y / (G * c * c * small),
+                ]
+            };
+            let (coarse, fine) = (forces(20), forces(40));
+            for (m, want) in [k.c11, k.c22, k.c23].into_iter().enumerate() {
+                let extrapolated = 2.0 * fine[m] - coarse[m];
+                assert!(
+                    (extrapolated - want).abs() < 0.01 * want,
+                    "a/b {ratio}, C{}: {extrapolated} (grids {} {}) vs Kalker {want}",
+                    ["11", "22", "23"][m],
+                    coarse[m],
+                    fine[m]
+                );
+            }
+        }
+    }
+
+    /// CONTACT's exact values for the reference contact (μ = 0.3, Hertz pressure, 80 × 144 cells,
+    /// docs/model.md §6.4): F_x within 2 %, M_z under η within 5 %, on a 30 × 30 grid.
+    #[test]
+    fn reference_contact_matches_contact() {
+        let grid = ContactGrid::new(A, B, 30, 30);
+        let op = SteadyRolling::new(&grid, G, NU).unwrap();
+        let cases: [(f64, f64, f64, f64); 8] = [
+            // ξ, η, F [N] (F_x for ξ, F_y for η), M_z [N·m]
+            (0.0005, 0.0, -8826.1, 0.0),
+            (0.001, 0.0, -15920.4, 0.0),
+            (0.002, 0.0, -25347.3, 0.0),
+            (0.003, 0.0, -29406.7, 0.0),
+            (0.0, 0.0005, -7348.1, 15.57),
+            (0.0, 0.001, -13496.7, 23.52),
+            (0.0, 0.002, -22481.5, 24.20),
+            (0.0, 0.003, -27618.7, 15.53),
+        ];
+        for (xi, eta, force, moment) in cases {
+            let r = solve(&grid, &op, Creepages { xi, eta, phi: 0.0 }, 0.3);
+            let f = &r.field;
+            let got = if xi != 0.0 { f.force_x } else { f.force_y };
+            eprintln!(
+                "xi {xi} eta {eta}: F {got:.1} vs {force} ({:+.2} %), M_z {:.2} vs {moment}, {} sweeps",
+                100.0 * (got / force - 1.0),
+                f.spin_moment,
+                r.sweeps
+            );
+            assert!((got - force).abs() < 0.02 * force.abs());
+            if moment != 0.0 {
+                assert!((f.spin_moment - moment).abs() < 0.05 * moment);
+            }
+        }
+    }
+}
