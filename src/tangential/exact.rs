@@ -283,15 +283,17 @@ impl SteadyRolling {
             .map(|c| [creep.xi - creep.phi * c.y, creep.eta + creep.phi * c.x])
             .collect();
         for strip in &grid.strips {
-            let released = Self::released(grid, strip);
             let mut upstream = [0.0; 2];
             for k in strip.cells.clone() {
                 let q = [p[k][0] - upstream[0], p[k][1] - upstream[1]];
                 if q != [0.0; 2] {
-                    self.spread(grid, k, released, q, &mut s);
+                    self.spread(grid, grid.cells[k].i as isize, strip.j, q, &mut s);
                 }
                 upstream = p[k];
             }
+            // the sum of the increments, p of the trailing cell, leaves behind it
+            let released = Self::released(grid, strip);
+            self.spread(grid, released, strip.j, [-upstream[0], -upstream[1]], &mut s);
         }
         let mut slipping = vec![false; n];
         let mut sweeps = 0;
@@ -301,28 +303,35 @@ impl SteadyRolling {
             let mut largest = 0.0_f64;
             for strip in &grid.strips {
                 let released = Self::released(grid, strip);
-                let mut upstream = [0.0; 2];
+                // increment changes of this strip so far, which leave behind its trailing cell: their
+                // release is added to every cell once the strip is done, and to cell k's own slip here
+                let mut pending = [0.0; 2];
                 for k in strip.cells.clone() {
+                    let c = grid.cells[k];
                     let d = self.own(grid, k, released);
-                    // s_k = r + M_kk·(p_k − p_upstream), r without cell k's own increment
-                    let q_old = [p[k][0] - upstream[0], p[k][1] - upstream[1]];
-                    let r = [
-                        s[k][0] - d[0] * (q_old[0] + upstream[0]),
-                        s[k][1] - d[1] * (q_old[1] + upstream[1]),
+                    let gone = self.offset(released, c.j, c.i, c.j);
+                    let sk = [
+                        s[k][0] - self.a_xx[gone] * pending[0] - self.a_xy[gone] * pending[1],
+                        s[k][1] - self.a_xy[gone] * pending[0] - self.a_yy[gone] * pending[1],
                     ];
+                    // s_k = r + M_kk·p_k with r free of cell k's own increment (p_k − p_upstream)
+                    let r = [sk[0] - d[0] * p[k][0], sk[1] - d[1] * p[k][1]];
                     let (pk, _, slip) = local_problem(r, d, bound[k]);
                     slipping[k] = slip;
                     let change = [pk[0] - p[k][0], pk[1] - p[k][1]];
                     if change != [0.0; 2] {
                         largest = largest.max(change[0].hypot(change[1]));
-                        self.spread(grid, k, released, change, &mut s);
+                        self.spread(grid, c.i as isize, c.j, change, &mut s);
+                        pending = [pending[0] + change[0], pending[1] + change[1]];
                         // the increment of cell k moves every traction downstream of it
                         for t in &mut p[k..strip.cells.end] {
                             t[0] += change[0];
                             t[1] += change[1];
                         }
                     }
-                    upstream = p[k];
+                }
+                if pending != [0.0; 2] {
+                    self.spread(grid, released, strip.j, [-pending[0], -pending[1]], &mut s);
                 }
             }
             let scale = p.iter().fold(0.0_f64, |m, q| m.max(q[0].hypot(q[1])));
@@ -339,37 +348,28 @@ impl SteadyRolling {
         })
     }
 
-    /// Adds to every cell's s/V the change that an increment change `change` [Pa] of cell `source` causes:
-    /// (A(x − x_source) − A(x − x_released))·change/h_x, the increment entering at the source and leaving
-    /// behind its strip's trailing cell (column `released`).
+    /// Adds to every cell's s/V the change A(x − x_source)·change/h_x [-] that a traction increment
+    /// `change` [Pa] entering at column `column` (−1: behind the grid) of row `row` causes.
     fn spread(
         &self,
         grid: &ContactGrid,
-        source: usize,
-        released: isize,
+        column: isize,
+        row: usize,
         change: [f64; 2],
         s: &mut [[f64; 2]],
     ) {
-        let src = grid.cells[source];
         for strip in &grid.strips {
             let first = grid.cells[strip.cells.start].i;
-            let here = self.offset(src.i as isize, src.j, first, strip.j);
-            let gone = self.offset(released, src.j, first, strip.j);
+            let at = self.offset(column, row, first, strip.j);
             let len = strip.cells.len();
-            let (hxx, hxy, hyy) = (
-                &self.a_xx[here..here + len],
-                &self.a_xy[here..here + len],
-                &self.a_yy[here..here + len],
-            );
-            let (gxx, gxy, gyy) = (
-                &self.a_xx[gone..gone + len],
-                &self.a_xy[gone..gone + len],
-                &self.a_yy[gone..gone + len],
+            let (xx, xy, yy) = (
+                &self.a_xx[at..at + len],
+                &self.a_xy[at..at + len],
+                &self.a_yy[at..at + len],
             );
             for (m, t) in s[strip.cells.clone()].iter_mut().enumerate() {
-                let (xx, xy, yy) = (hxx[m] - gxx[m], hxy[m] - gxy[m], hyy[m] - gyy[m]);
-                t[0] += xx * change[0] + xy * change[1];
-                t[1] += xy * change[0] + yy * change[1];
+                t[0] += xx[m] * change[0] + xy[m] * change[1];
+                t[1] += xy[m] * change[0] + yy[m] * change[1];
             }
         }
     }
