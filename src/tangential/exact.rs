@@ -44,6 +44,8 @@ pub struct SteadyRolling {
     a_xx: Vec<f64>,
     a_xy: Vec<f64>,
     a_yy: Vec<f64>,
+    /// Whether the CPU has AVX2 and FMA (the inner loop's fused kernel).
+    fma: bool,
 }
 
 /// Solver settings of [`SteadyRolling::solve`].
@@ -148,6 +150,34 @@ fn local_problem(r: [f64; 2], d: [f64; 2], g: f64) -> ([f64; 2], [f64; 2], bool)
     (p, [-t * p[0], -t * p[1]], true)
 }
 
+/// s_x += A_xx·c_x + A_xy·c_y, s_y += A_xy·c_x + A_yy·c_y over one strip's cells (with fused
+/// multiply–adds if `FMA`), the inner loop of [`SteadyRolling::solve`].
+#[inline(always)]
+fn add_influence<const FMA: bool>(a: [&[f64]; 3], c: [f64; 2], s: [&mut [f64]; 2]) {
+    let [sx, sy] = s;
+    let n = sx.len();
+    let (xx, xy, yy, sy) = (&a[0][..n], &a[1][..n], &a[2][..n], &mut sy[..n]);
+    for m in 0..n {
+        if FMA {
+            sx[m] = xx[m].mul_add(c[0], xy[m].mul_add(c[1], sx[m]));
+            sy[m] = xy[m].mul_add(c[0], yy[m].mul_add(c[1], sy[m]));
+        } else {
+            sx[m] += xx[m] * c[0] + xy[m] * c[1];
+            sy[m] += xy[m] * c[0] + yy[m] * c[1];
+        }
+    }
+}
+
+/// [`add_influence`] compiled for AVX2 and FMA.
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn add_influence_fma(a: [&[f64]; 3], c: [f64; 2], s: [&mut [f64]; 2]) {
+    add_influence::<true>(a, c, s)
+}
+
 impl SteadyRolling {
     /// The influence tables of `grid` for two bodies of shear modulus G [Pa] and Poisson ratio ν
     /// (`shear_modulus`, `poisson`): A at every offset between cells, and to the cell behind each strip's
@@ -182,6 +212,10 @@ impl SteadyRolling {
             a_xx,
             a_xy,
             a_yy,
+            #[cfg(target_arch = "x86_64")]
+            fma: is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma"),
+            #[cfg(not(target_arch = "x86_64"))]
+            fma: false,
         })
     }
 
@@ -277,11 +311,16 @@ impl SteadyRolling {
                 .collect(),
             None => vec![[0.0; 2]; n],
         };
-        let mut s: Vec<[f64; 2]> = grid
-            .cells
-            .iter()
-            .map(|c| [creep.xi - creep.phi * c.y, creep.eta + creep.phi * c.x])
-            .collect();
+        let mut s: [Vec<f64>; 2] = [
+            grid.cells
+                .iter()
+                .map(|c| creep.xi - creep.phi * c.y)
+                .collect(),
+            grid.cells
+                .iter()
+                .map(|c| creep.eta + creep.phi * c.x)
+                .collect(),
+        ];
         for strip in &grid.strips {
             let mut upstream = [0.0; 2];
             for k in strip.cells.clone() {
@@ -293,7 +332,13 @@ impl SteadyRolling {
             }
             // the sum of the increments, p of the trailing cell, leaves behind it
             let released = Self::released(grid, strip);
-            self.spread(grid, released, strip.j, [-upstream[0], -upstream[1]], &mut s);
+            self.spread(
+                grid,
+                released,
+                strip.j,
+                [-upstream[0], -upstream[1]],
+                &mut s,
+            );
         }
         let mut slipping = vec![false; n];
         let mut sweeps = 0;
@@ -311,8 +356,8 @@ impl SteadyRolling {
                     let d = self.own(grid, k, released);
                     let gone = self.offset(released, c.j, c.i, c.j);
                     let sk = [
-                        s[k][0] - self.a_xx[gone] * pending[0] - self.a_xy[gone] * pending[1],
-                        s[k][1] - self.a_xy[gone] * pending[0] - self.a_yy[gone] * pending[1],
+                        s[0][k] - self.a_xx[gone] * pending[0] - self.a_xy[gone] * pending[1],
+                        s[1][k] - self.a_xy[gone] * pending[0] - self.a_yy[gone] * pending[1],
                     ];
                     // s_k = r + M_kk·p_k with r free of cell k's own increment (p_k − p_upstream)
                     let r = [sk[0] - d[0] * p[k][0], sk[1] - d[1] * p[k][1]];
@@ -356,21 +401,25 @@ impl SteadyRolling {
         column: isize,
         row: usize,
         change: [f64; 2],
-        s: &mut [[f64; 2]],
+        s: &mut [Vec<f64>; 2],
     ) {
+        let [sx, sy] = s;
         for strip in &grid.strips {
             let first = grid.cells[strip.cells.start].i;
             let at = self.offset(column, row, first, strip.j);
-            let len = strip.cells.len();
-            let (xx, xy, yy) = (
-                &self.a_xx[at..at + len],
-                &self.a_xy[at..at + len],
-                &self.a_yy[at..at + len],
-            );
-            for (m, t) in s[strip.cells.clone()].iter_mut().enumerate() {
-                t[0] += xx[m] * change[0] + xy[m] * change[1];
-                t[1] += xy[m] * change[0] + yy[m] * change[1];
+            let coefficients = [
+                &self.a_xx[at..at + strip.cells.len()],
+                &self.a_xy[at..at + strip.cells.len()],
+                &self.a_yy[at..at + strip.cells.len()],
+            ];
+            let targets = [&mut sx[strip.cells.clone()], &mut sy[strip.cells.clone()]];
+            #[cfg(target_arch = "x86_64")]
+            if self.fma {
+                // SAFETY: `fma` is set only where the CPU has AVX2 and FMA (`SteadyRolling::new`)
+                unsafe { add_influence_fma(coefficients, change, targets) };
+                continue;
             }
+            add_influence::<false>(coefficients, change, targets);
         }
     }
 
@@ -379,7 +428,7 @@ impl SteadyRolling {
         &self,
         grid: &ContactGrid,
         p: &[[f64; 2]],
-        s: &[[f64; 2]],
+        s: &[Vec<f64>; 2],
         slipping: &[bool],
         speed: f64,
     ) -> TractionField {
@@ -390,12 +439,10 @@ impl SteadyRolling {
             fy += q[1];
             mz += c.x * q[1] - c.y * q[0];
         }
-        let slip_velocity: Vec<[f64; 2]> = s
-            .iter()
-            .zip(slipping)
-            .map(|(v, &sl)| {
-                if sl {
-                    [speed * v[0], speed * v[1]]
+        let slip_velocity: Vec<[f64; 2]> = (0..p.len())
+            .map(|k| {
+                if slipping[k] {
+                    [speed * s[0][k], speed * s[1][k]]
                 } else {
                     [0.0; 2]
                 }
