@@ -56,7 +56,9 @@ pub struct SteadyRolling {
 /// Solver settings of [`SteadyRolling::solve`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExactSettings {
-    /// Convergence tolerance: largest traction change in a sweep over the largest bound [-].
+    /// Convergence tolerance: largest traction change of a sweep over the largest traction [-]. A sweep
+    /// reduces the error by a factor ≈ 0.65 (measured on 30 × 30), so the tractions are within about 3×
+    /// the tolerance of the converged ones.
     pub tolerance: f64,
     /// Largest number of Gauss–Seidel sweeps.
     pub max_sweeps: usize,
@@ -65,7 +67,7 @@ pub struct ExactSettings {
 impl Default for ExactSettings {
     fn default() -> Self {
         Self {
-            tolerance: 1e-10,
+            tolerance: 1e-7,
             max_sweeps: 500,
         }
     }
@@ -115,12 +117,22 @@ fn corner(x: f64, y: f64, nu: f64) -> [f64; 3] {
 pub fn influence(dx: f64, dy: f64, hx: f64, hy: f64, shear_modulus: f64, nu: f64) -> [f64; 3] {
     let (x1, x2) = (dx - 0.5 * hx, dx + 0.5 * hx);
     let (y1, y2) = (dy - 0.5 * hy, dy + 0.5 * hy);
-    let c22 = corner(x2, y2, nu);
-    let c12 = corner(x1, y2, nu);
-    let c21 = corner(x2, y1, nu);
-    let c11 = corner(x1, y1, nu);
+    rectangle(
+        [
+            corner(x2, y2, nu),
+            corner(x1, y2, nu),
+            corner(x2, y1, nu),
+            corner(x1, y1, nu),
+        ],
+        shear_modulus,
+    )
+}
+
+/// The double integral over a rectangle from its corner functions [F(x₂,y₂), F(x₁,y₂), F(x₂,y₁), F(x₁,y₁)]
+/// ([`corner`]), times the two bodies' factor 1/(πG) [1/Pa·m].
+fn rectangle(c: [[f64; 3]; 4], shear_modulus: f64) -> [f64; 3] {
     let scale = 1.0 / (PI * shear_modulus);
-    std::array::from_fn(|k| scale * (c22[k] - c12[k] - c21[k] + c11[k]))
+    std::array::from_fn(|k| scale * (c[0][k] - c[1][k] - c[2][k] + c[3][k]))
 }
 
 /// The cell's own 2 × 2 problem (Kalker's element problem): given r = s/V of the cell without its own
@@ -192,14 +204,23 @@ impl SteadyRolling {
         check_range("Poisson ratio", poisson, 0.0, 0.5, "")?;
         let (nx, ny, hx, hy) = (grid.nx, grid.ny, grid.hx, grid.hy);
         let rows = 2 * ny - 1;
-        // A at every column offset d = i_t − c ∈ [−(nx − 1), nx] and row offset, then copied into the
+        // A at every column offset d = i_t − c ∈ [−(nx − 1), nx] and row offset (as [`influence`], from the
+        // corner functions on the lattice of cell corners, each shared by four cells), then copied into the
         // runs of every source column
+        let corners: Vec<[f64; 3]> = (0..=rows)
+            .flat_map(|l| {
+                let y = (l as f64 - ny as f64 + 0.5) * hy;
+                (0..=2 * nx).map(move |k| corner((k as f64 - nx as f64 + 0.5) * hx, y, poisson))
+            })
+            .collect();
+        let at = |k: usize, l: usize| corners[k + (2 * nx + 1) * l];
         let mut offsets = vec![[0.0; 3]; (2 * nx) * rows];
         for r in 0..rows {
-            let dy = (r as f64 - (ny as f64 - 1.0)) * hy;
             for e in 0..2 * nx {
-                let dx = (e as f64 - (nx as f64 - 1.0)) * hx;
-                offsets[e + 2 * nx * r] = influence(dx, dy, hx, hy, shear_modulus, poisson);
+                offsets[e + 2 * nx * r] = rectangle(
+                    [at(e + 1, r + 1), at(e, r + 1), at(e + 1, r), at(e, r)],
+                    shear_modulus,
+                );
             }
         }
         let len = (nx + 1) * rows * nx;
