@@ -641,6 +641,12 @@ mod tests {
             let (coarse, fine) = (forces(20), forces(40));
             for (m, want) in [k.c11, k.c22, k.c23].into_iter().enumerate() {
                 let extrapolated = 2.0 * fine[m] - coarse[m];
+                eprintln!(
+                    "a/b {ratio} C{}: 20 cells {:.4}, 40 cells {:.4}, extrapolated {extrapolated:.4}, Kalker {want:.4}",
+                    ["11", "22", "23"][m],
+                    coarse[m],
+                    fine[m]
+                );
                 assert!(
                     (extrapolated - want).abs() < 0.01 * want,
                     "a/b {ratio}, C{}: {extrapolated} (grids {} {}) vs Kalker {want}",
