@@ -62,6 +62,11 @@ pub struct ExactSettings {
     pub tolerance: f64,
     /// Largest number of Gauss–Seidel sweeps.
     pub max_sweeps: usize,
+    /// Sweeps combined by Anderson's extrapolation ([`Anderson`]); 0: plain Gauss–Seidel. Measured on
+    /// 30 × 30, reference contact, μ = 0.3, cold, tolerance 1e-7, sweeps with depth 0 / 3 / 5 / 8: ξ = 0.1 %
+    /// 39 / 28 / 27 / 26; η = 0.1 % 42 / 30 / 27 / 26; φ = 0.2 /m 38 / 31 / 31 / 29; φ = 1 /m 34 / 29 / 28 / 28;
+    /// ξ = 0.08 %, η = −0.04 %, φ = 0.4 /m 36 / 33 / 32 / 33.
+    pub anderson_depth: usize,
 }
 
 impl Default for ExactSettings {
@@ -69,6 +74,7 @@ impl Default for ExactSettings {
         Self {
             tolerance: 1e-7,
             max_sweeps: 500,
+            anderson_depth: 5,
         }
     }
 }
@@ -165,6 +171,104 @@ fn local_problem(r: [f64; 2], d: [f64; 2], g: f64) -> ([f64; 2], [f64; 2], bool)
     let p = [-r[0] / (d[0] + t), -r[1] / (d[1] + t)];
     // the slip follows from the converged t (so that it is exactly antiparallel to p)
     (p, [-t * p[0], -t * p[1]], true)
+}
+
+/// Anderson acceleration of the Gauss–Seidel sweep x ↦ G(x) (D.G. Anderson, J. ACM 12 (1965) 547–560;
+/// H.F. Walker and P. Ni, SIAM J. Numer. Anal. 49 (2011) 1715–1735, "type II" with the last `depth`
+/// differences): the next iterate is G(x_k) − Σ γ_i·(G(x_(i+1)) − G(x_i)), γ minimising
+/// |f_k − Σ γ_i·(f_(i+1) − f_i)|, f = G(x) − x. The slips s are affine in the tractions, so the same
+/// combination of the stored s gives the slips of the new iterate exactly, without a new evaluation. The
+/// sweep solves each cell's problem from the slips, so an extrapolated traction outside its bound is
+/// harmless: the next sweep puts it back.
+/// One sweep in the history of [`Anderson`]: f = G(x) − x, G(x) and the slips s(G(x)).
+type Iterate = (Vec<[f64; 2]>, Vec<[f64; 2]>, [Vec<f64>; 2]);
+
+struct Anderson {
+    depth: usize,
+    /// (f = G(x) − x, G(x), s(G(x))) of the last `depth` + 1 sweeps, oldest first.
+    history: std::collections::VecDeque<Iterate>,
+}
+
+impl Anderson {
+    fn new(depth: usize) -> Self {
+        Self {
+            depth,
+            history: std::collections::VecDeque::with_capacity(depth + 1),
+        }
+    }
+
+    /// Records the sweep from `before` to `p` (with slips `s`) and replaces `p`, `s` by the extrapolated
+    /// iterate (left as they are while there is no difference to combine, or if the least-squares problem
+    /// is singular).
+    fn extrapolate(&mut self, before: Vec<[f64; 2]>, p: &mut [[f64; 2]], s: &mut [Vec<f64>; 2]) {
+        let f: Vec<[f64; 2]> = p
+            .iter()
+            .zip(&before)
+            .map(|(g, x)| [g[0] - x[0], g[1] - x[1]])
+            .collect();
+        if self.history.len() == self.depth + 1 {
+            self.history.pop_front();
+        }
+        self.history.push_back((f, p.to_vec(), s.clone()));
+        let m = self.history.len() - 1;
+        if m == 0 {
+            return;
+        }
+        let dot = |a: &[[f64; 2]], b: &[[f64; 2]]| -> f64 {
+            a.iter()
+                .zip(b)
+                .map(|(u, v)| u[0] * v[0] + u[1] * v[1])
+                .sum()
+        };
+        let diff = |i: usize| -> Vec<[f64; 2]> {
+            let (a, b) = (&self.history[i + 1].0, &self.history[i].0);
+            a.iter()
+                .zip(b)
+                .map(|(u, v)| [u[0] - v[0], u[1] - v[1]])
+                .collect()
+        };
+        let df: Vec<Vec<[f64; 2]>> = (0..m).map(diff).collect();
+        let last = &self.history[m].0;
+        // normal equations (m ≤ depth, symmetric positive semidefinite), Cholesky
+        let mut a = vec![vec![0.0; m]; m];
+        let mut gamma: Vec<f64> = (0..m).map(|i| dot(&df[i], last)).collect();
+        for i in 0..m {
+            for j in 0..=i {
+                a[i][j] = dot(&df[i], &df[j]);
+            }
+        }
+        for i in 0..m {
+            for j in 0..=i {
+                let sum: f64 = a[i][j] - (0..j).map(|k| a[i][k] * a[j][k]).sum::<f64>();
+                if i == j {
+                    if sum <= 1e-14 * a[0][0].max(f64::MIN_POSITIVE) {
+                        return;
+                    }
+                    a[i][i] = sum.sqrt();
+                } else {
+                    a[i][j] = sum / a[j][j];
+                }
+            }
+        }
+        for i in 0..m {
+            gamma[i] = (gamma[i] - (0..i).map(|k| a[i][k] * gamma[k]).sum::<f64>()) / a[i][i];
+        }
+        for i in (0..m).rev() {
+            gamma[i] = (gamma[i] - (i + 1..m).map(|k| a[k][i] * gamma[k]).sum::<f64>()) / a[i][i];
+        }
+        for (i, g) in gamma.iter().enumerate() {
+            let (next, prev) = (&self.history[i + 1], &self.history[i]);
+            for (t, (u, v)) in p.iter_mut().zip(next.1.iter().zip(&prev.1)) {
+                t[0] -= g * (u[0] - v[0]);
+                t[1] -= g * (u[1] - v[1]);
+            }
+            for (sc, (u, v)) in s.iter_mut().zip(next.2.iter().zip(&prev.2)) {
+                for (t, (u, v)) in sc.iter_mut().zip(u.iter().zip(v)) {
+                    *t -= g * (u - v);
+                }
+            }
+        }
+    }
 }
 
 /// s_x += A_xx·c_x + A_xy·c_y, s_y += A_xy·c_x + A_yy·c_y over one strip's cells (with fused
@@ -376,8 +480,10 @@ impl SteadyRolling {
         let mut pending: Vec<(isize, [f64; 2])> = Vec::new();
         let mut sweeps = 0;
         let mut residual = f64::INFINITY;
+        let mut anderson = Anderson::new(settings.anderson_depth);
         while sweeps < settings.max_sweeps {
             sweeps += 1;
+            let before = p.clone();
             let mut largest = 0.0_f64;
             for strip in &grid.strips {
                 let released = Self::released(grid, strip);
@@ -427,6 +533,9 @@ impl SteadyRolling {
             residual = if scale > 0.0 { largest / scale } else { 0.0 };
             if residual <= settings.tolerance {
                 break;
+            }
+            if settings.anderson_depth > 0 {
+                anderson.extrapolate(before, &mut p, &mut s);
             }
         }
         Ok(ExactTraction {
@@ -734,5 +843,55 @@ mod tests {
             );
             assert!((got - carter).abs() < 0.03 * mu * FN);
         }
+    }
+
+    /// Anderson's extrapolation changes the path, not the solution: plain Gauss–Seidel and the
+    /// accelerated sweeps agree to the tolerance (partial slip with spin), and the extrapolation saves
+    /// sweeps (longitudinal creepage).
+    #[test]
+    fn anderson_extrapolation_keeps_the_solution_and_saves_sweeps() {
+        let grid = ContactGrid::new(A, B, 24, 24);
+        let op = SteadyRolling::new(&grid, G, NU).unwrap();
+        let bound = hertz_bound(&grid, 0.3);
+        let run = |creep, depth| {
+            let settings = ExactSettings {
+                tolerance: 1e-10,
+                anderson_depth: depth,
+                ..ExactSettings::default()
+            };
+            let r = op.solve(&grid, creep, V, &bound, None, settings).unwrap();
+            assert!(r.converged);
+            r
+        };
+        let spin = Creepages {
+            xi: 0.0008,
+            eta: -0.0004,
+            phi: 0.4,
+        };
+        let (plain, fast) = (run(spin, 0), run(spin, 5));
+        let scale = 0.3 * FN;
+        for (a, b) in [
+            (plain.field.force_x, fast.field.force_x),
+            (plain.field.force_y, fast.field.force_y),
+        ] {
+            assert!((a - b).abs() < 1e-7 * scale, "{a} vs {b}");
+        }
+        assert!(
+            (plain.field.spin_moment - fast.field.spin_moment).abs()
+                < 1e-7 * plain.field.spin_moment.abs()
+        );
+        assert_eq!(plain.field.slipping, fast.field.slipping);
+        let longitudinal = Creepages {
+            xi: 0.001,
+            eta: 0.0,
+            phi: 0.0,
+        };
+        let (plain, fast) = (run(longitudinal, 0), run(longitudinal, 5));
+        assert!(
+            fast.sweeps * 6 < plain.sweeps * 5,
+            "{} vs {} sweeps",
+            fast.sweeps,
+            plain.sweeps
+        );
     }
 }
