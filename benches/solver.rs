@@ -170,6 +170,49 @@ fn exact_step(c: &mut Criterion) {
                     })
                 });
             }
+/// Kalker's exact steady rolling alone (constant μ = 0.3, Hertz pressure, reference contact) on n × n grids,
+/// cold start: the operator's set-up and the solve to the default tolerance.
+fn exact_tangential(c: &mut Criterion) {
+    use wheelrail::contact::{ContactGrid, HertzContact};
+    use wheelrail::tangential::exact::{ExactSettings, SteadyRolling};
+    let mut g = c.benchmark_group("exact_tangential");
+    g.sample_size(10);
+    let params = Params::default();
+    let hertz: HertzContact = normal_contact(&params, 100e3).unwrap();
+    let mat = params.material.at(params.material.bulk_temperature);
+    for n in [15, 30] {
+        let grid = ContactGrid::for_contact(&hertz, n, n);
+        let bound: Vec<f64> = grid
+            .cells
+            .iter()
+            .map(|c| {
+                let s = 1.0 - (c.x / hertz.a).powi(2) - (c.y / hertz.b).powi(2);
+                0.3 * hertz.p0 * s.max(0.0).sqrt()
+            })
+            .collect();
+        g.bench_function(format!("setup_{n}x{n}"), |b| {
+            b.iter(|| SteadyRolling::new(black_box(&grid), mat.shear_modulus, mat.poisson).unwrap())
+        });
+        let op = SteadyRolling::new(&grid, mat.shear_modulus, mat.poisson).unwrap();
+        for xi in [0.001, 0.003] {
+            let creep = Creepages {
+                xi,
+                eta: 0.0,
+                phi: 0.0,
+            };
+            g.bench_function(format!("solve_{n}x{n}_xi_{xi}"), |b| {
+                b.iter(|| {
+                    op.solve(
+                        &grid,
+                        black_box(creep),
+                        30.0,
+                        &bound,
+                        None,
+                        ExactSettings::default(),
+                    )
+                    .unwrap()
+                })
+            });
         }
     }
     g.finish();
@@ -179,6 +222,6 @@ criterion_group! {
     name = benches;
     // no plots: criterion's plotting backend needs system fonts
     config = Criterion::default().without_plots();
-    targets = points, sweeps, grid_scaling, exact_step
+    targets = points, sweeps, grid_scaling, exact_step, exact_tangential
 }
 criterion_main!(benches);

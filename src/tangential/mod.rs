@@ -1,6 +1,7 @@
 //! Tangential contact (docs/model.md §6): Kalker's creepage coefficients and FASTSIM with a locally varying
 //! adhesion limit.
 
+pub mod exact;
 pub mod fastsim;
 pub mod kalker;
 
