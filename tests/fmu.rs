@@ -993,8 +993,8 @@ const REAL_OUTPUTS: [&str; 9] = [
 ];
 
 impl Fmu {
-    /// Sets ξ, η, F_N, V, w (no spin) and steps.
-    fn step_at(&self, t: f64, [xi, eta, load, speed, wetness]: [f64; 5]) -> c_int {
+    /// Sets ξ, η, F_N, V, w (no spin).
+    fn set_inputs(&self, [xi, eta, load, speed, wetness]: [f64; 5]) {
         for (name, x) in [
             ("creepage_longitudinal", xi),
             ("creepage_lateral", eta),
@@ -1002,8 +1002,13 @@ impl Fmu {
             ("rolling_speed", speed),
             ("wetness", wetness),
         ] {
-            assert_eq!(self.set(name, x), OK);
+            assert_eq!(self.set(name, x), OK, "{:?}", self.errors());
         }
+    }
+
+    /// Sets ξ, η, F_N, V, w (no spin) and steps.
+    fn step_at(&self, t: f64, inputs: [f64; 5]) -> c_int {
+        self.set_inputs(inputs);
         self.step(t)
     }
 

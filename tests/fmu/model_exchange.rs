@@ -122,19 +122,6 @@ fn started(name: &str, fmu_type: c_int, mode: i32, warm: bool) -> Fmu {
 }
 
 impl Fmu {
-    /// Sets ξ, η, F_N, V, w (no spin).
-    fn set_inputs(&self, [xi, eta, load, speed, wetness]: [f64; 5]) {
-        for (name, x) in [
-            ("creepage_longitudinal", xi),
-            ("creepage_lateral", eta),
-            ("normal_force", load),
-            ("rolling_speed", speed),
-            ("wetness", wetness),
-        ] {
-            assert_eq!(self.set(name, x), OK, "{:?}", self.errors());
-        }
-    }
-
     /// `fmi2CompletedIntegratorStep`, checking that the FMU asks for neither an event nor termination.
     fn completed_step(&self) -> c_int {
         let (mut event, mut terminate) = (-1, -1);
