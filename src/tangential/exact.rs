@@ -1,5 +1,5 @@
 //! Kalker's exact ("complete") theory of steady rolling with a local traction bound per cell
-//! (docs/model.md §6.4; J.J. Kalker, *Three-dimensional elastic bodies in rolling contact*, Kluwer 1990,
+//! (docs/model.md §6.5; J.J. Kalker, *Three-dimensional elastic bodies in rolling contact*, Kluwer 1990,
 //! ch. 2 and 5; E.A.H. Vollebregt, *User guide for CONTACT*, the discretisation of module 3).
 //!
 //! **Discretisation.** Piecewise constant tractions p_J = [p_x, p_y] on the cells of the rectangular
@@ -388,7 +388,7 @@ impl SteadyRolling {
     }
 
     /// Steady rolling at creepages `creep` and rolling speed `speed` [m/s] with the traction bound
-    /// `bound` = g per cell [Pa] (docs/model.md §6.4), started from `start` (the tractions of a previous
+    /// `bound` = g per cell [Pa] (docs/model.md §6.5), started from `start` (the tractions of a previous
     /// solve on the same grid, [Pa]) or zero. Errors on a grid other than this operator's, non-finite
     /// creepages or start tractions, bounds that are negative or not finite.
     pub fn solve(
@@ -768,7 +768,7 @@ mod tests {
     }
 
     /// CONTACT's exact values for the reference contact (μ = 0.3, Hertz pressure, 80 × 144 cells,
-    /// docs/model.md §6.4): F_x within 2 %, M_z under η within 5 %, on a 30 × 30 grid.
+    /// docs/model.md §6.5): F_x within 2 %, M_z under η within 5 %, on a 30 × 30 grid.
     #[test]
     fn reference_contact_matches_contact() {
         let grid = ContactGrid::new(A, B, 30, 30);
