@@ -170,6 +170,11 @@ fn exact_step(c: &mut Criterion) {
                     })
                 });
             }
+        }
+    }
+    g.finish();
+}
+
 /// Kalker's exact steady rolling alone (constant μ = 0.3, Hertz pressure, reference contact) on n × n grids,
 /// cold start: the operator's set-up and the solve to the default tolerance.
 fn exact_tangential(c: &mut Criterion) {
