@@ -89,13 +89,13 @@ clean:
 	$(CARGO) clean
 	rm -rf $(VENV)
 
-# The default lookup table (default parameters, default axes) for the FMU, then its verification against the
-# exact solver (2000 random points). The default axes now span the contact geometry (a/b, p_ref: 15.3 million
-# points, not yet sized down, issue 13): far beyond one machine (about 3.8 ms of CPU per solved point at
-# 30 x 30; coverage windows skip part of them); the committed table is still the format-1 table of the
-# default contact (443 520 points, 834 s on 2 cores). On a Slurm cluster, `wheelrail table slurm --shards N
-# --out DIR` writes the array job, the merge-and-verify job and DIR/submit.sh (README, Tabulation mode).
+# The committed lookup table (default parameters; the default running-surface contact, one geometry, on the
+# axes of tools/default-contact-axes.toml: 693 000 points, 2158 s on 2 cores), then its verification against
+# the exact solver (2000 random points). The library's default axes (without --axes) span the contact
+# geometry (a/b, p_ref: 15.3 million points, not yet sized down, issue 13): beyond one machine. On a Slurm
+# cluster, `wheelrail table slurm --shards N --out DIR [--axes FILE]` writes the array job, the
+# merge-and-verify job and DIR/submit.sh (README, Tabulation mode).
 TABLE_DIR := fmu/resources/table
 table:
-	$(CARGO) run --release -p wheelrail-cli --bin wheelrail -- table build --out $(TABLE_DIR)
+	$(CARGO) run --release -p wheelrail-cli --bin wheelrail -- table build --axes tools/default-contact-axes.toml --out $(TABLE_DIR)
 	$(CARGO) run --release -p wheelrail-cli --bin wheelrail -- table verify $(TABLE_DIR)

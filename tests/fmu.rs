@@ -637,6 +637,72 @@ fn lifted_wheel_gives_zero_forces_without_error() {
     assert!(f.errors().is_empty());
 }
 
+/// `frictional_power` [W]: in mode 2 the exact solver's Σ|τ|·|s|·dA (the library's, bit for bit), which in
+/// full sliding approaches |F|·|V|·|ξ| (every cell slips at about the rigid slip speed) and in partial slip
+/// stays below it (the stick zone dissipates nothing); in mode 1 the bundled table's, within its accuracy
+/// of the exact one; 0 for a lifted wheel.
+#[test]
+fn frictional_power_is_the_dissipation_in_every_mode() {
+    let table = root().join("fmu/resources/table");
+    let table = CString::new(table.to_str().unwrap()).unwrap();
+    let exact = Fmu::new("power-exact", None);
+    assert_eq!(exact.set_int("mode", 2), OK);
+    assert_eq!(exact.set_bool("warm_start", false), OK);
+    let by_table = Fmu::new("power-table", None);
+    assert_eq!(by_table.set_int("mode", 1), OK);
+    assert_eq!(
+        unsafe { (fmi().set_string)(by_table.c, &vr("table_file"), 1, &table.as_ptr()) },
+        OK
+    );
+    // the table's grid (the default 30 × 30), not the tests' small one of `Fmu::init`
+    for f in [&exact, &by_table] {
+        assert_eq!(f.set("creepage_longitudinal", 0.002), OK);
+        unsafe {
+            assert_eq!((fmi().setup_experiment)(f.c, 0, 0.0, 0.0, 0, 0.0), OK);
+            assert_eq!((fmi().enter_initialization_mode)(f.c), OK);
+            assert_eq!(
+                (fmi().exit_initialization_mode)(f.c),
+                OK,
+                "{:?}",
+                f.messages()
+            );
+        }
+    }
+    let (speed, load) = (exact.get("rolling_speed"), exact.get("normal_force"));
+    for xi in [0.002, 0.08] {
+        for f in [&exact, &by_table] {
+            assert_eq!(f.set("creepage_longitudinal", xi), OK);
+            assert_eq!(f.step(0.0), OK);
+        }
+        let p = exact.get("frictional_power");
+        let mut params = Params::default();
+        params.grid.nx = 30;
+        params.grid.ny = 30;
+        let pt = OperatingPoint {
+            creepage_x: xi,
+            ..OperatingPoint::default()
+        };
+        let library = wheelrail::solve(&params, &pt)
+            .unwrap()
+            .global
+            .frictional_power;
+        assert_eq!(p.to_bits(), library.to_bits(), "{p} vs {library}");
+        let creep_power = exact.get("force_longitudinal").abs() * speed * xi;
+        if xi > 0.05 {
+            assert!((p / creep_power - 1.0).abs() < 0.02, "{p} vs {creep_power}");
+        } else {
+            assert!(p > 0.0 && p < creep_power, "{p} vs {creep_power}");
+        }
+        // the table's value within 1 % of F_N·V·ξ of the exact one
+        let t = by_table.get("frictional_power");
+        assert_eq!(by_table.get_int("evaluation_mode"), 1);
+        assert!((t - p).abs() < 0.01 * load * speed * xi, "{t} vs {p}");
+    }
+    assert_eq!(exact.set("normal_force", 0.0), OK);
+    assert_eq!(exact.step(0.0), OK);
+    assert_eq!(exact.get("frictional_power"), 0.0);
+}
+
 #[test]
 fn non_finite_inputs_are_rejected_by_name_and_wetness_is_clamped_once() {
     let f = Fmu::new("bad", None);
@@ -980,7 +1046,7 @@ fn directional_derivatives_match_differences_and_kalkers_linear_stiffness() {
 }
 
 /// The Real outputs compared bit for bit after a restored state.
-const REAL_OUTPUTS: [&str; 9] = [
+const REAL_OUTPUTS: [&str; 10] = [
     "force_longitudinal",
     "force_lateral",
     "spin_moment",
@@ -990,6 +1056,7 @@ const REAL_OUTPUTS: [&str; 9] = [
     "contact_semi_axis_a",
     "contact_semi_axis_b",
     "peak_pressure",
+    "frictional_power",
 ];
 
 impl Fmu {
@@ -1013,7 +1080,7 @@ impl Fmu {
     }
 
     /// Every Real output and `evaluation_mode`.
-    fn outputs(&self) -> ([f64; 9], i32) {
+    fn outputs(&self) -> ([f64; REAL_OUTPUTS.len()], i32) {
         (
             REAL_OUTPUTS.map(|n| self.get(n)),
             self.get_int("evaluation_mode"),

@@ -29,7 +29,8 @@ pub fn table_location(table_file: &str, resources: Option<&Path>) -> Option<Path
 
 /// The table of `mode` at a location (loaded once per process and directory, shared read-only between
 /// instances), and the warning to log once if mode auto goes without one (then every point is solved
-/// exactly). Mode exact only needs none; in mode table only, no usable table is an error.
+/// exactly). Mode exact only needs none; in mode table only, no usable table is an error. A table of
+/// format version 1 is not usable: it does not store the frictional power.
 pub fn resolve(
     mode: Mode,
     location: Option<&Path>,
@@ -40,9 +41,16 @@ pub fn resolve(
     let loaded = match location {
         None => Err("table_file is empty and the FMU's resources directory is unknown".into()),
         Some(p) if !p.exists() => Err(format!("there is no lookup table at {}", p.display())),
-        Some(p) => {
-            Table::load_shared(p).map_err(|e| format!("the lookup table cannot be used: {e}"))
-        }
+        Some(p) => match Table::load_shared(p) {
+            Err(e) => Err(format!("the lookup table cannot be used: {e}")),
+            // the output frictional_power needs it
+            Ok(t) if !t.stores_frictional_power() => Err(format!(
+                "the lookup table at {} is of format version 1, which does not store the frictional \
+                 power (output frictional_power): rebuild it with `wheelrail table build`",
+                p.display()
+            )),
+            Ok(t) => Ok(t),
+        },
     };
     match (mode, loaded) {
         (_, Ok(table)) => Ok((Some(table), None)),

@@ -437,7 +437,7 @@ impl WheelRailModel {
             });
             status = Status::Warning;
         }
-        write_outputs(values, &e, &output, mode);
+        write_outputs(values, &e, &output, mode)?;
         Ok(status)
     }
 
@@ -503,9 +503,20 @@ fn param_key(values: &Values) -> ParamKey {
     key
 }
 
-/// Writes an evaluation's outputs: the six of the table, the contact ellipse and peak pressure, and
-/// `evaluation_mode`, `converged`.
-fn write_outputs(values: &mut Values, e: &Evaluation, o: &TableOutput, mode: i32) {
+/// Writes an evaluation's outputs: the six of the table, the contact ellipse and peak pressure, the
+/// frictional power [W], and `evaluation_mode`, `converged`. An
+/// evaluation without a frictional power (a table of format 1, which [`super::mode::resolve`] never
+/// selects) is an error.
+fn write_outputs(
+    values: &mut Values,
+    e: &Evaluation,
+    o: &TableOutput,
+    mode: i32,
+) -> Result<(), String> {
+    let frictional_power = e.frictional_power().ok_or_else(|| {
+        "the lookup table does not store the frictional power (format version 1): rebuild it"
+            .to_string()
+    })?;
     for (i, x) in [
         (FORCE_LONGITUDINAL, o.force_x),
         (FORCE_LATERAL, o.force_y),
@@ -516,11 +527,13 @@ fn write_outputs(values: &mut Values, e: &Evaluation, o: &TableOutput, mode: i32
         (CONTACT_SEMI_AXIS_A, e.patch.semi_axis_a),
         (CONTACT_SEMI_AXIS_B, e.patch.semi_axis_b),
         (PEAK_PRESSURE, e.patch.peak_pressure),
+        (FRICTIONAL_POWER, frictional_power),
     ] {
         values.set(i, Value::Real(x));
     }
     values.set(EVALUATION_MODE, Value::Integer(mode));
     values.set(CONVERGED, Value::Boolean(o.converged));
+    Ok(())
 }
 
 impl Model for WheelRailModel {
@@ -612,7 +625,7 @@ impl Model for WheelRailModel {
             let (e, mode, _) = self.evaluate(v, Some(DERIVATIVE_TOLERANCE), Start::Probe, log)?;
             let mut out = v.clone();
             let output = e.outputs().map_err(|err| fmu_error(err, v))?;
-            write_outputs(&mut out, &e, &output, mode);
+            write_outputs(&mut out, &e, &output, mode)?;
             if v == values {
                 self.derivative_base = Some((v.clone(), out.clone()));
             }
@@ -1010,7 +1023,7 @@ mod tests {
                 let (e, mode, _) = m
                     .evaluate(&w, Some(DERIVATIVE_TOLERANCE), Start::Probe, &log)
                     .unwrap();
-                write_outputs(&mut w, &e, &e.outputs().unwrap(), mode);
+                write_outputs(&mut w, &e, &e.outputs().unwrap(), mode).unwrap();
                 unknowns.map(|i| w.real(i))
             };
             let (p, q) = (shifted(1.0), shifted(-1.0));

@@ -12,8 +12,8 @@
 //! both 0 (the start) means "not prescribed", both > 0 define the ellipse and the curvatures are then
 //! ignored; one alone is an error. The contact's ellipse and peak pressure are outputs under other names
 //! (`contact_semi_axis_a`, `contact_semi_axis_b`, `peak_pressure`; an FMI name exists once). The frictional
-//! power is not an output yet: tables of format version 2 store it (`Evaluation::frictional_power`), but
-//! the bundled table is of format 1, and an output that only one mode can fill would be NaN in the other.
+//! power `frictional_power` comes from the exact solver or from the table (format version 2 stores it; a
+//! table of format 1 is not used, see [`super::mode::resolve`]).
 //!
 //! Frame and signs (docs/model.md §1): x along the track in the direction of travel for positive
 //! `rolling_speed`, y lateral, z normal into the rail. Creepages are the rigid slip velocity of the wheel
@@ -108,6 +108,8 @@ pub const CONTACT_SEMI_AXIS_A: usize = 29;
 pub const CONTACT_SEMI_AXIS_B: usize = 30;
 /// `peak_pressure` p0 [Pa] (output).
 pub const PEAK_PRESSURE: usize = 31;
+/// `frictional_power` P_f [W] (output).
+pub const FRICTIONAL_POWER: usize = 32;
 
 /// Default of `minimum_speed`: below this |V| the contact is solved at this speed [m/s].
 pub const DEFAULT_MINIMUM_SPEED: f64 = wheelrail::model::DEFAULT_MINIMUM_SPEED;
@@ -322,7 +324,7 @@ const INPUT_VARIABLES: [Variable; 6] = [
 ];
 
 /// The FMU's own variables: the outputs, the parameters of its evaluation and the prescribed semi-axes.
-const OWN_VARIABLES: [Variable; 18] = [
+const OWN_VARIABLES: [Variable; 19] = [
     output(
         "force_longitudinal",
         FORCE_LONGITUDINAL,
@@ -444,6 +446,12 @@ const OWN_VARIABLES: [Variable; 18] = [
         PEAK_PRESSURE,
         "Pa",
         "Peak Hertz pressure p0 = 3 F_N/(2 pi a b) of the contact ellipse; 0 for a lifted wheel",
+    ),
+    output(
+        "frictional_power",
+        FRICTIONAL_POWER,
+        "W",
+        "Frictional power P_f = sum of |tau|·|s|·dA over the slipping cells (the heat source, and the work-rate basis of T-gamma wear indices): by the exact solver, or interpolated from the lookup table (P_f/(F_N V) is one of its outputs); 0 for a lifted wheel",
     ),
 ];
 
