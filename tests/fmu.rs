@@ -141,7 +141,9 @@ fn c_logger() -> Logger {
     let lib = LIB.get_or_init(|| {
         let dir = target_dir().join("fmu-test-logger");
         std::fs::create_dir_all(&dir).unwrap();
-        let src = dir.join("logger.c");
+        // per process: the fuzzer's workers compile it at the same time, and a source one of them is
+        // rewriting is a truncated file to the others' compiler
+        let src = dir.join(format!("logger-{}.c", std::process::id()));
         let so = dir.join(format!("liblogger-{}.so", std::process::id()));
         std::fs::write(&src, LOGGER_C).unwrap();
         let cc = std::env::var("CC").unwrap_or("cc".into());
@@ -155,6 +157,7 @@ fn c_logger() -> Logger {
         let lib = unsafe { libloading::Library::new(so.to_str().unwrap()) }.unwrap();
         // a loaded library stays mapped after its file is removed
         std::fs::remove_file(&so).ok();
+        std::fs::remove_file(&src).ok();
         lib
     });
     unsafe { *lib.get::<Logger>("test_logger").unwrap() }

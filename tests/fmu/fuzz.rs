@@ -1312,7 +1312,7 @@ fn child() {
 }
 
 /// This test binary, re-run for `fuzz::sequences` only, with `env`.
-fn spawn(env: &[(&str, String)], stdout: Stdio) -> Child {
+fn spawn(env: &[(&str, String)], stdout: Stdio, stderr: Stdio) -> Child {
     let mut cmd = Command::new(std::env::current_exe().unwrap());
     cmd.args([
         "fmu::fuzz::sequences",
@@ -1321,7 +1321,7 @@ fn spawn(env: &[(&str, String)], stdout: Stdio) -> Child {
         "--test-threads=1",
     ])
     .stdout(stdout)
-    .stderr(Stdio::null());
+    .stderr(stderr);
     for (k, v) in env {
         cmd.env(k, v);
     }
@@ -1344,10 +1344,13 @@ fn drive(base: u64, first: u64, count: u64) -> Driven {
     let mut found = Vec::new();
     let mut slowest = (0, 0);
     let (mut next, end, mut statuses) = (first, first + count, [0; 5]);
+    // the worker's standard error: what a worker that dies outside a sequence printed
+    let stderr = fuzz_dir().join(format!("worker-{first}-{}.stderr", std::process::id()));
     while next < end {
         let mut child = spawn(
             &[(WORKER_ENV, format!("{base},{next},{}", end - next))],
             Stdio::piped(),
+            Stdio::from(std::fs::File::create(&stderr).unwrap()),
         );
         let stdout = child.stdout.take().unwrap();
         let (tx, rx) = mpsc::channel();
@@ -1415,13 +1418,18 @@ fn drive(base: u64, first: u64, count: u64) -> Driven {
                         });
                         next = i + 1;
                     } else {
-                        assert!(next >= end || status.success(), "worker ended: {status}");
+                        assert!(
+                            next >= end || status.success(),
+                            "worker ended: {status}; its standard error:\n{}",
+                            std::fs::read_to_string(&stderr).unwrap_or_default()
+                        );
                     }
                     break;
                 }
             }
         }
     }
+    std::fs::remove_file(&stderr).ok();
     (end - first, statuses, slowest, found)
 }
 
@@ -1433,6 +1441,7 @@ fn replay(seed: u64, keep: &[usize]) -> (bool, String) {
     let mut child = spawn(
         &[(REPLAY_ENV, seed.to_string()), (KEEP_ENV, keep.join(","))],
         Stdio::from(std::fs::File::create(&log).unwrap()),
+        Stdio::null(),
     );
     let start = Instant::now();
     let outcome = loop {
