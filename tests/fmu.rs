@@ -421,6 +421,12 @@ impl Fmu {
     /// Small grid, then setup and initialization; returns the status of fmi2ExitInitializationMode.
     fn init(&self) -> c_int {
         assert_eq!(self.set_int("grid_size", GRID), OK);
+        self.initialize()
+    }
+
+    /// Setup and initialization with the parameters as set; returns the status of
+    /// fmi2ExitInitializationMode.
+    fn initialize(&self) -> c_int {
         unsafe {
             assert_eq!((fmi().setup_experiment)(self.c, 0, 0.0, 0.0, 0, 0.0), OK);
             assert_eq!((fmi().enter_initialization_mode)(self.c), OK);
@@ -660,16 +666,7 @@ fn frictional_power_is_the_dissipation_in_every_mode() {
     // the table's grid (the default 30 × 30), not the tests' small one of `Fmu::init`
     for f in [&exact, &by_table] {
         assert_eq!(f.set("creepage_longitudinal", 0.002), OK);
-        unsafe {
-            assert_eq!((fmi().setup_experiment)(f.c, 0, 0.0, 0.0, 0, 0.0), OK);
-            assert_eq!((fmi().enter_initialization_mode)(f.c), OK);
-            assert_eq!(
-                (fmi().exit_initialization_mode)(f.c),
-                OK,
-                "{:?}",
-                f.messages()
-            );
-        }
+        assert_eq!(f.initialize(), OK, "{:?}", f.messages());
     }
     let (speed, load) = (exact.get("rolling_speed"), exact.get("normal_force"));
     for xi in [0.002, 0.08] {

@@ -1255,15 +1255,7 @@ fn keepers() -> [Fmu; 2] {
     assert_eq!(small.set_int("grid_size", 6), OK);
     for f in [&bundled, &small] {
         assert_eq!(f.set_int("mode", 1), OK);
-        unsafe {
-            assert_eq!((fmi().enter_initialization_mode)(f.c), OK);
-            assert_eq!(
-                (fmi().exit_initialization_mode)(f.c),
-                OK,
-                "{:?}",
-                f.messages()
-            );
-        }
+        assert_eq!(f.initialize(), OK, "{:?}", f.messages());
     }
     [bundled, small]
 }
