@@ -2,7 +2,8 @@
 //!
 //! Start at T = T0 (or a warm start's temperature), p_f = 0. Each iteration: materials at T → microcontact
 //! and fluid film ([`Setup::local`]) → failure stress and adhesion limit ([`Setup::adhesion`]) → FASTSIM
-//! (traction, slip) → frictional heat → surface temperature (the heat partition) → residual → relaxed
+//! or, with `tangential = "exact"`, Kalker's exact steady rolling with τ_l as the traction bound
+//! (docs/model.md §6.4; started from the previous iteration's tractions) (traction, slip) → frictional heat → surface temperature (the heat partition) → residual → relaxed
 //! temperature update ([`Relaxation`]); a film without solution backtracks the update ([`Backtracking`]).
 
 use super::assembly::{Iterate, assemble};
@@ -19,6 +20,7 @@ use crate::error::{Error, Result, Stage};
 use crate::fluid::{FilmSolution, FilmStart};
 use crate::materials::MaterialState;
 use crate::params::{FrictionLaw, OperatingPoint, Params};
+use crate::tangential::exact::ExactSettings;
 use crate::tangential::{Creepages, TractionField, fastsim, kalker_coefficients};
 use crate::thermal::HeatSolution;
 
@@ -29,7 +31,8 @@ pub fn solve(params: &Params, point: &OperatingPoint) -> Result<Solution> {
 }
 
 /// As [`solve`], starting the fixed point from a nearby solution's state ([`WarmStart`]): its temperature,
-/// its separations as the microcontact Newton's starting points and its film as the film solver's start.
+/// its separations as the microcontact Newton's starting points, its film as the film solver's start and
+/// its tractions as the exact tangential solver's start.
 /// The start is used only if it fits the grid (same nx × ny); otherwise the solve starts cold. The
 /// converged result is the same fixed point to within the solver tolerance.
 pub fn solve_from(
@@ -90,6 +93,11 @@ struct Coupled<'s, 'w> {
     temperature_change: f64,
     /// The last heat partition: the start of the next one.
     heat_solution: Option<HeatSolution>,
+    /// The tractions to start the exact tangential solve from [Pa]: the last iteration's, or the warm
+    /// start's (unused with FASTSIM).
+    traction_start: Option<Vec<[f64; 2]>>,
+    /// Whether the last exact tangential solve converged (true with FASTSIM, which does not iterate).
+    tangential_converged: bool,
     relaxation: Relaxation,
     backtracking: Backtracking,
     /// Whether this iteration's film had no solution (Newton's last film kept, see [`Coupled::local`]).
@@ -128,6 +136,10 @@ impl<'s, 'w> Coupled<'s, 'w> {
             warm_temperature,
             temperature_change: f64::INFINITY,
             heat_solution: None,
+            traction_start: warm
+                .filter(|_| setup.steady.is_some())
+                .map(|w| w.traction.clone()),
+            tangential_converged: true,
             relaxation: Relaxation::new(setup.params.solver.relaxation),
             backtracking: Backtracking::default(),
             film_failed: false,
@@ -157,6 +169,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
                 outer_met,
                 step.local.film.as_ref(),
                 solver.fluid_tolerance,
+                self.tangential_converged,
                 self.heat_solution.as_ref(),
             );
             let termination = match unmet {
@@ -193,13 +206,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
             return Ok(None);
         };
         let adhesion = self.setup.adhesion(&local, &mats);
-        let traction = fastsim(
-            &self.setup.grid,
-            self.setup.creep,
-            self.setup.point.speed,
-            &self.setup.flex,
-            &adhesion.limit,
-        )?;
+        let traction = self.tangential(&adhesion.limit)?;
         let (target, heat_flux_wheel) = self.heat(&traction.power_density)?;
         Ok(Some(Step {
             local,
@@ -284,6 +291,34 @@ impl<'s, 'w> Coupled<'s, 'w> {
         Ok(None)
     }
 
+    /// The traction field under the adhesion limit `bound` [Pa]: FASTSIM, or Kalker's exact steady rolling
+    /// (docs/model.md §6.4) started from the last iteration's tractions (or the warm start's), its sweeps,
+    /// residual and convergence recorded for the report.
+    fn tangential(&mut self, bound: &[f64]) -> Result<TractionField> {
+        let setup = self.setup;
+        let Some(steady) = &setup.steady else {
+            return fastsim(
+                &setup.grid,
+                setup.creep,
+                setup.point.speed,
+                &setup.flex,
+                bound,
+            );
+        };
+        let exact = steady.solve(
+            &setup.grid,
+            setup.creep,
+            setup.point.speed,
+            bound,
+            self.traction_start.as_deref(),
+            ExactSettings::default(),
+        )?;
+        self.report.tangential_sweeps = exact.sweeps;
+        self.report.tangential_residual = exact.residual;
+        self.tangential_converged = exact.converged;
+        Ok(exact.field)
+    }
+
     /// The surface temperature [K] and the heat flux density into the wheel [W/m²] that the frictional
     /// power density `q` [W/m²] produces: T0 + the rise of the heat partition (warm-started from the last
     /// one), or T0 and no flux without a heat model.
@@ -337,6 +372,9 @@ impl<'s, 'w> Coupled<'s, 'w> {
         self.prev_tau = Some(step.adhesion.limit);
         self.dry_guess = Some(step.local.dry_separation);
         self.film = step.local.film;
+        if self.setup.steady.is_some() {
+            self.traction_start = Some(step.traction.traction);
+        }
     }
 
     /// The final iterate, with the temperature produced by its traction field (equal to the iterate within

@@ -7,7 +7,10 @@ use crate::error::Result;
 use crate::fluid::base_height;
 use crate::materials::MaterialState;
 use crate::microcontact::Microcontact;
-use crate::params::{FrictionLaw, Geometry, Material, OperatingPoint, Params, Pressure};
+use crate::params::{
+    FrictionLaw, Geometry, Material, OperatingPoint, Params, Pressure, Tangential,
+};
+use crate::tangential::exact::SteadyRolling;
 use crate::tangential::{Creepages, Flexibilities, KalkerCoefficients};
 use crate::thermal::HeatModel;
 use std::sync::Arc;
@@ -83,13 +86,16 @@ pub(super) struct Setup<'a> {
     pub base_height: f64,
     /// The heat model (None with heat switched off or in pure rolling, where nothing heats).
     pub heat: Option<Arc<HeatModel>>,
+    /// The exact tangential solver's influence operator of the grid (None with FASTSIM).
+    pub steady: Option<Arc<SteadyRolling>>,
 }
 
 impl<'a> Setup<'a> {
     /// The grid of the contact `hertz` with its nominal pressure ([`Params::pressure_shape`]), the flexibilities from the Kalker
     /// coefficients and the shear modulus of `mat0` (the material at the bulk temperature), the heat model
-    /// at the surface speeds and the microcontact model of the roughness, the last two from `cache` when
-    /// it holds them for these inputs.
+    /// at the surface speeds, the microcontact model of the roughness and, with the exact tangential
+    /// solver, its influence operator of the grid (G and ν of `mat0`), the last three from `cache` when it
+    /// holds them for these inputs.
     pub fn new(
         params: &'a Params,
         point: &'a OperatingPoint,
@@ -118,6 +124,12 @@ impl<'a> Setup<'a> {
             None
         };
         let micro = cache.microcontact(&params.roughness)?;
+        let steady = match params.tangential {
+            Tangential::Exact => {
+                Some(cache.steady_rolling(&grid, mat0.shear_modulus, mat0.poisson)?)
+            }
+            Tangential::Fastsim => None,
+        };
         Ok(Self {
             params,
             point,
@@ -129,6 +141,7 @@ impl<'a> Setup<'a> {
             p_n,
             micro,
             heat,
+            steady,
         })
     }
 
