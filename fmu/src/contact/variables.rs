@@ -1,9 +1,9 @@
 //! The variable table of WheelRailFriction.fmu: the single source of `modelDescription.xml`, of get/set by
 //! value reference and of the documentation's variable list. The value reference of each variable is its
-//! index in [`VARIABLES`]. The inputs and the model's parameters are rows of the library's parameter
+//! index in [`VARIABLES`] plus the number of [`RESERVED`] references below it ([`index`]). The inputs and the model's parameters are rows of the library's parameter
 //! specification (`wheelrail::params::spec`: name, value reference, unit, start, range and, for the
 //! parameters, description); the FMU adds its own variables (outputs, `grid_size`, `mode`, `table_file`,
-//! `minimum_speed`, `warm_start`, the prescribed semi-axes `semi_axis_a`, `semi_axis_b`) and its inputs'
+//! `minimum_speed`, `warm_start`, `tangential`, the prescribed semi-axes `semi_axis_a`, `semi_axis_b`) and its inputs'
 //! conventions (ranges, nominal values, descriptions).
 //!
 //! **Contact geometry** is an input of every step (docs/model.md §2): the gap curvatures
@@ -25,6 +25,35 @@ use crate::fmi2::variables::{Causality, Kind, Variability, Variable};
 use wheelrail::params::spec::{Bound, Fmu, SEMI_AXIS_RANGE, Spec};
 use wheelrail::params::{Input, Param};
 
+/// Value references that no variable of this version has: 32 is held for the output `frictional_power`,
+/// which waits for a bundled table that stores it (value references are a contract: never reused).
+pub const RESERVED: [u32; 1] = [32];
+
+/// The index in [`VARIABLES`] of the variable with value reference `vr`: `vr` less the [`RESERVED`]
+/// references below it.
+pub const fn index(vr: u32) -> usize {
+    let (mut below, mut k) = (0, 0);
+    while k < RESERVED.len() {
+        if RESERVED[k] < vr {
+            below += 1;
+        }
+        k += 1;
+    }
+    vr as usize - below
+}
+
+/// Whether no variable may have value reference `vr` ([`RESERVED`]).
+const fn is_reserved(vr: u32) -> bool {
+    let mut k = 0;
+    while k < RESERVED.len() {
+        if RESERVED[k] == vr {
+            return true;
+        }
+        k += 1;
+    }
+    false
+}
+
 /// The FMU variable of a specification row (a compile-time error for a row without one).
 const fn exposed(s: &Spec) -> Fmu {
     match s.fmu {
@@ -35,12 +64,12 @@ const fn exposed(s: &Spec) -> Fmu {
 
 /// The value reference of an input's variable.
 const fn input_vr(i: Input) -> usize {
-    exposed(i.spec()).value_reference as usize
+    index(exposed(i.spec()).value_reference)
 }
 
 /// The value reference of a parameter's variable.
 const fn parameter_vr(p: Param) -> usize {
-    exposed(p.spec()).value_reference as usize
+    index(exposed(p.spec()).value_reference)
 }
 
 /// `creepage_longitudinal` ξ [-].
@@ -108,6 +137,11 @@ pub const CONTACT_SEMI_AXIS_A: usize = 29;
 pub const CONTACT_SEMI_AXIS_B: usize = 30;
 /// `peak_pressure` p0 [Pa] (output).
 pub const PEAK_PRESSURE: usize = 31;
+/// The value reference of `tangential`.
+pub const TANGENTIAL_VR: u32 = 33;
+/// `tangential`: the tangential solver, 0 FASTSIM, 1 Kalker's exact steady rolling (its index; value
+/// reference [`TANGENTIAL_VR`]).
+pub const TANGENTIAL: usize = index(TANGENTIAL_VR);
 
 /// Default of `minimum_speed`: below this |V| the contact is solved at this speed [m/s].
 pub const DEFAULT_MINIMUM_SPEED: f64 = wheelrail::model::DEFAULT_MINIMUM_SPEED;
@@ -322,7 +356,7 @@ const INPUT_VARIABLES: [Variable; 6] = [
 ];
 
 /// The FMU's own variables: the outputs, the parameters of its evaluation and the prescribed semi-axes.
-const OWN_VARIABLES: [Variable; 18] = [
+const OWN_VARIABLES: [Variable; 19] = [
     output(
         "force_longitudinal",
         FORCE_LONGITUDINAL,
@@ -445,6 +479,18 @@ const OWN_VARIABLES: [Variable; 18] = [
         "Pa",
         "Peak Hertz pressure p0 = 3 F_N/(2 pi a b) of the contact ellipse; 0 for a lifted wheel",
     ),
+    Variable {
+        name: "tangential",
+        vr: TANGENTIAL_VR,
+        causality: Causality::Parameter,
+        variability: Variability::Fixed,
+        kind: Kind::Integer {
+            start: Some(0),
+            min: Some(0),
+            max: Some(1),
+        },
+        description: "Tangential contact solver: 0 FASTSIM with the parabolic pressure, 1 Kalker's exact steady rolling with Hertz's pressure (docs/model.md 6.4; slower). A lookup table serves only the method it was built with: otherwise mode 0 solves exactly (one warning) and mode 1 is an error",
+    },
 ];
 
 /// The number of rows of the library's specification that the FMU exposes (parameters and the gap
@@ -503,7 +549,10 @@ const COUNT: usize = INPUT_VARIABLES.len() + OWN_VARIABLES.len() + EXPOSED_ROWS;
 /// Puts a variable at its value reference; a clash or a reference beyond the table is a compile-time
 /// error.
 const fn place(mut slots: [Option<Variable>; COUNT], v: Variable) -> [Option<Variable>; COUNT] {
-    let i = v.vr as usize;
+    if is_reserved(v.vr) {
+        panic!("a variable has a reserved value reference");
+    }
+    let i = index(v.vr);
     if i >= COUNT {
         panic!("a value reference lies beyond the variable table");
     }
@@ -550,7 +599,8 @@ const fn assemble() -> [Variable; COUNT] {
     table
 }
 
-/// The variable table of the FMU; the value reference of each variable is its index. Parameter defaults
+/// The variable table of the FMU; the value reference of each variable is its index but for the
+/// [`RESERVED`] references skipped ([`index`]). Parameter defaults
 /// and ranges are the library's (its specification, `wheelrail::params::spec`).
 pub static VARIABLES: [Variable; COUNT] = assemble();
 
@@ -657,7 +707,8 @@ mod tests {
     #[test]
     fn value_references_are_table_indices_and_names_are_unique() {
         for (i, v) in VARIABLES.iter().enumerate() {
-            assert_eq!(v.vr as usize, i, "{}", v.name);
+            assert_eq!(index(v.vr), i, "{}", v.name);
+            assert!(!RESERVED.contains(&v.vr), "{}", v.name);
             assert!(!v.description.is_empty());
             assert_eq!(
                 VARIABLES.iter().filter(|w| w.name == v.name).count(),
@@ -688,6 +739,11 @@ mod tests {
         assert_eq!(v.real(PSI_B), p.fluid.psi_b);
         assert_eq!(v.real(H_F_MAX), p.fluid.h_f_max);
         assert_eq!(v.integer(GRID_SIZE) as usize, p.grid.nx);
+        assert_eq!(v.integer(TANGENTIAL), 0);
+        assert_eq!(p.tangential, wheelrail::Tangential::Fastsim);
+        assert_eq!(VARIABLES[TANGENTIAL].vr, 33);
+        // below the reserved value reference, references are indices; above it, one more
+        assert_eq!((index(31), index(33)), (31, 32));
         assert_eq!(v.list()[TABLE_FILE], Value::String(String::new()));
     }
 
@@ -696,7 +752,7 @@ mod tests {
         let rows = wheelrail::params::spec::specs().filter(|s| s.fmu.is_some());
         for s in rows {
             let f = s.fmu.unwrap();
-            let v = &VARIABLES[f.value_reference as usize];
+            let v = &VARIABLES[index(f.value_reference)];
             assert_eq!(v.name, f.name);
             let want = match s.key {
                 wheelrail::params::Key::Input(_) => Causality::Input,
