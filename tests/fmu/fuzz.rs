@@ -257,11 +257,11 @@ const INSTANCES: usize = 2;
 const STATES: usize = 3;
 const BLOBS: usize = 2;
 
-/// A value reference: mostly one of type `ty` (of the causality `want` if given), sometimes any or out
-/// of range.
+/// A value reference: mostly one of type `ty` (of the causality `want` if given), sometimes any, reserved
+/// (32) or out of range.
 fn gen_vr(r: &mut Rng, ty: Ty, want: Option<&str>) -> u32 {
     if r.chance(0.06) {
-        return r.pick(&[32, 33, 100, 1000, u32::MAX, 0, 24]);
+        return r.pick(&[32, 34, 100, 1000, u32::MAX, 0, 24]);
     }
     let vs: Vec<u32> = variables()
         .iter()
