@@ -20,7 +20,6 @@ use crate::error::{Error, Result, Stage};
 use crate::fluid::{FilmSolution, FilmStart};
 use crate::materials::MaterialState;
 use crate::params::{FrictionLaw, OperatingPoint, Params};
-use crate::tangential::exact::ExactSettings;
 use crate::tangential::{Creepages, TractionField, fastsim, kalker_coefficients};
 use crate::thermal::HeatSolution;
 
@@ -311,7 +310,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
             setup.point.speed,
             bound,
             self.traction_start.as_deref(),
-            ExactSettings::default(),
+            setup.exact,
         )?;
         self.report.tangential_sweeps = exact.sweeps;
         self.report.tangential_residual = exact.residual;
@@ -396,4 +395,64 @@ fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
     a.iter()
         .zip(b)
         .fold(0.0, |m: f64, (x, y)| m.max((x - y).abs()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::Tangential;
+
+    /// The solve of `params` at `point` with every exact tangential solve limited to `max_sweeps`.
+    fn limited(params: &Params, point: &OperatingPoint, max_sweeps: usize) -> Iterate {
+        let cache = SetupCache::default();
+        let hertz = super::super::setup::normal_contact(params, point.normal_force).unwrap();
+        let mat0 = params.material.at(params.material.bulk_temperature);
+        let kalker = kalker_coefficients(hertz.a, hertz.b, mat0.poisson).unwrap();
+        let creep = Creepages {
+            xi: point.creepage_x,
+            eta: point.creepage_y,
+            phi: point.spin,
+        };
+        let mut setup = Setup::new(params, point, hertz, &mat0, &kalker, creep, &cache).unwrap();
+        setup.exact.max_sweeps = max_sweeps;
+        Coupled::start(&setup, None).run().unwrap()
+    }
+
+    /// A tangential solve that does not converge keeps the outer iteration going from its tractions (one
+    /// more sweep per iteration here: the bound is fixed, constant μ and heat off), and at the iteration
+    /// limit leaves the point unconverged, limited by the tangential solve.
+    #[test]
+    fn an_unconverged_tangential_solve_is_continued_and_else_named() {
+        let mut p = Params {
+            tangential: Tangential::Exact,
+            ..Params::default()
+        };
+        p.friction.law = FrictionLaw::Constant;
+        p.solver.heat = false;
+        p.grid.nx = 12;
+        p.grid.ny = 12;
+        let point = OperatingPoint {
+            creepage_x: 0.001,
+            ..OperatingPoint::default()
+        };
+        p.solver.max_iterations = 3;
+        let short = limited(&p, &point, 1);
+        assert_eq!(
+            short.report.termination,
+            Termination::MaxIterationsReached {
+                limited_by: Limiter::Tangential
+            }
+        );
+        assert!(!short.report.converged);
+        assert_eq!(short.report.iterations, 3);
+        assert!(short.report.tangential_residual > p.solver.tolerance.min(1e-7));
+        // with enough outer iterations the sweeps add up to the converged solve
+        p.solver.max_iterations = 200;
+        let continued = limited(&p, &point, 1);
+        assert!(continued.report.converged && continued.report.iterations > 3);
+        let full = limited(&p, &point, 500);
+        assert_eq!(full.report.iterations, 1);
+        let f = continued.traction.force_x;
+        assert!((f - full.traction.force_x).abs() <= 1e-6 * f.abs(), "{f}");
+    }
 }

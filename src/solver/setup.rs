@@ -10,7 +10,7 @@ use crate::microcontact::Microcontact;
 use crate::params::{
     FrictionLaw, Geometry, Material, OperatingPoint, Params, Pressure, Tangential,
 };
-use crate::tangential::exact::SteadyRolling;
+use crate::tangential::exact::{ExactSettings, SteadyRolling};
 use crate::tangential::{Creepages, Flexibilities, KalkerCoefficients};
 use crate::thermal::HeatModel;
 use std::sync::Arc;
@@ -88,6 +88,8 @@ pub(super) struct Setup<'a> {
     pub heat: Option<Arc<HeatModel>>,
     /// The exact tangential solver's influence operator of the grid (None with FASTSIM).
     pub steady: Option<Arc<SteadyRolling>>,
+    /// The settings of every exact tangential solve (the defaults: tolerance 1e-7, 500 sweeps).
+    pub exact: ExactSettings,
 }
 
 impl<'a> Setup<'a> {
@@ -142,6 +144,7 @@ impl<'a> Setup<'a> {
             micro,
             heat,
             steady,
+            exact: ExactSettings::default(),
         })
     }
 
