@@ -217,7 +217,7 @@ pub enum Tangential {
     #[default]
     Fastsim,
     /// Kalker's exact theory of steady rolling with the local adhesion limit as the traction bound
-    /// (docs/model.md §6.4, [`crate::tangential::exact::SteadyRolling`]).
+    /// (docs/model.md §6.4 and §6.5).
     Exact,
 }
 

@@ -47,9 +47,9 @@ use wheelrail::model::{
     DERIVATIVE_TOLERANCE, Evaluated, Evaluation, Evaluator, Fallback, LIFT_OFF_LOAD,
     Mode::ExactOnly, Notice, Notices, Policy, WarmStart,
 };
-use wheelrail::params::{Geometry, Key, Param};
+use wheelrail::params::{Geometry, Key, Param, Tangential};
 use wheelrail::table::{Jacobian, Table, TableOutput};
-use wheelrail::{Error, OperatingPoint, Params, Tangential};
+use wheelrail::{Error, OperatingPoint, Params};
 
 /// Relative finite-difference step of directional derivatives (times max(|u|, nominal) per input) [-].
 pub const DERIVATIVE_STEP: f64 = 1e-4;

@@ -740,7 +740,7 @@ mod tests {
         assert_eq!(v.real(H_F_MAX), p.fluid.h_f_max);
         assert_eq!(v.integer(GRID_SIZE) as usize, p.grid.nx);
         assert_eq!(v.integer(TANGENTIAL), 0);
-        assert_eq!(p.tangential, wheelrail::Tangential::Fastsim);
+        assert_eq!(p.tangential, wheelrail::params::Tangential::Fastsim);
         assert_eq!(VARIABLES[TANGENTIAL].vr, 33);
         // below the reserved value reference, references are indices; above it, one more
         assert_eq!((index(31), index(33)), (31, 32));
