@@ -71,6 +71,9 @@ struct SlurmArgs {
     /// Parameter file (TOML) of every shard [default: the default parameter set].
     #[arg(long, value_name = "FILE.toml")]
     params: Option<PathBuf>,
+    /// Tangential contact solver of every shard [default: fastsim, or the parameter file's].
+    #[arg(long, value_enum)]
+    tangential: Option<TangentialArg>,
     /// Axes file (TOML) of every shard [default: the built-in axes].
     #[arg(long, value_name = "FILE.toml")]
     axes: Option<PathBuf>,
@@ -277,6 +280,7 @@ fn slurm(a: &SlurmArgs) -> Result<()> {
             .as_deref()
             .map(|p| canonical("axes file", p))
             .transpose()?,
+        tangential: a.tangential.map(Into::into),
         shards: a.shards,
         cpus_per_task: a.cpus_per_task,
         time: a.time.clone(),
