@@ -1,6 +1,7 @@
 //! Time per operating point of the exact solver and of the fast alternatives (Table 1 conditions, single
 //! thread), a 50-point traction–creepage sweep with warm starts, the exact dry point against the grid
-//! size (for the scaling exponent), and one exact MBS step per grid, cold and warm (`exact_step`).
+//! size (for the scaling exponent), and one exact MBS step per grid, cold and warm (`exact_step`); the point
+//! also with the exact tangential solver in place of FASTSIM (`exact_tangential_*`).
 //! `make bench` prints all of them with their ratio to Polach.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
@@ -9,7 +10,7 @@ use wheelrail::baselines::polach;
 use wheelrail::params::FrictionLaw;
 use wheelrail::solver::{normal_contact, solve_sweep};
 use wheelrail::tangential::{Creepages, kalker_coefficients};
-use wheelrail::{OperatingPoint, Params, solve};
+use wheelrail::{OperatingPoint, Params, Tangential, solve};
 
 fn point(xi: f64, wetness: f64) -> OperatingPoint {
     OperatingPoint {
@@ -25,6 +26,14 @@ fn with_law(law: FrictionLaw) -> Params {
     p
 }
 
+/// The default parameters with the exact tangential solver (`tangential = "exact"`).
+fn with_exact_tangential() -> Params {
+    Params {
+        tangential: Tangential::Exact,
+        ..Params::default()
+    }
+}
+
 fn points(c: &mut Criterion) {
     let mut g = c.benchmark_group("point");
     g.sample_size(10);
@@ -37,6 +46,17 @@ fn points(c: &mut Criterion) {
             0.0,
         ),
         ("polach_1pct_30mps", with_law(FrictionLaw::Polach), 0.0),
+        // the coupled solver with Kalker's exact steady rolling instead of FASTSIM (docs/model.md §6.6)
+        (
+            "exact_tangential_dry_1pct_30mps",
+            with_exact_tangential(),
+            0.0,
+        ),
+        (
+            "exact_tangential_wet_1pct_30mps",
+            with_exact_tangential(),
+            1.0,
+        ),
     ];
     for (name, params, wetness) in cases {
         let pt = point(0.01, wetness);

@@ -27,5 +27,5 @@ pub mod thermal;
 
 pub use error::{Error, Result};
 pub use model::Model;
-pub use params::{FrictionLaw, OperatingPoint, Params};
+pub use params::{FrictionLaw, OperatingPoint, Params, Pressure, Tangential};
 pub use solver::{Solution, solve, solve_from};

@@ -836,6 +836,41 @@ fn instantiation_checks_guid_and_type() {
     );
 }
 
+/// Exact mode with `tangential` = 1: the outputs are the library's with Kalker's exact steady rolling (a
+/// cold solve: bit for bit), not FASTSIM's.
+#[test]
+fn exact_mode_with_tangential_one_gives_the_librarys_exact_tangential_result() {
+    let f = Fmu::new("tangential", None);
+    assert_eq!(f.set_bool("warm_start", false), OK);
+    assert_eq!(f.set_int("mode", 2), OK);
+    assert_eq!(f.set_int("tangential", 1), OK);
+    assert_eq!(f.set("creepage_longitudinal", 0.002), OK);
+    assert_eq!(f.set("creepage_lateral", 0.0005), OK);
+    assert_eq!(f.init(), OK, "{:?}", f.messages());
+    let pt = OperatingPoint {
+        creepage_x: 0.002,
+        creepage_y: 0.0005,
+        ..OperatingPoint::default()
+    };
+    let got = f.forces();
+    let exact = library_forces(|p| p.tangential = wheelrail::Tangential::Exact, pt);
+    assert!(close(got, exact, 1e-12), "{got:?} vs {exact:?}");
+    let fastsim = library_forces(|_| {}, pt);
+    assert!(!close(got, fastsim, 1e-3), "{got:?} vs FASTSIM {fastsim:?}");
+    assert_eq!(f.get_int("evaluation_mode"), 2);
+    assert!(f.get_bool("converged"));
+    // an unknown method is refused by name at initialization
+    let g = Fmu::new("tangential-bad", None);
+    assert_eq!(g.set_int("mode", 2), OK);
+    assert_eq!(g.set_int("tangential", 3), OK);
+    assert_eq!(g.init(), ERROR);
+    assert!(
+        g.last_error().contains("tangential: 3"),
+        "{}",
+        g.last_error()
+    );
+}
+
 #[test]
 fn table_only_mode_without_a_table_fails_at_initialization() {
     let dir = target_dir().join(format!("fmu-test-resources-{}", std::process::id()));

@@ -5,3 +5,4 @@ mod architecture;
 mod fluid;
 mod fmu;
 mod solver;
+mod tangential;

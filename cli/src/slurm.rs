@@ -9,6 +9,7 @@
 
 use anyhow::{Result, bail};
 use std::path::{Path, PathBuf};
+use wheelrail::Tangential;
 
 /// Name of the array-job script in the job directory.
 pub const BUILD_SCRIPT: &str = "build.sbatch";
@@ -34,6 +35,8 @@ pub struct SlurmJob {
     pub params: Option<PathBuf>,
     /// Axes file passed to every build (None: the built-in axes).
     pub axes: Option<PathBuf>,
+    /// Tangential solver passed to every build (`--tangential`; None: the parameter file's).
+    pub tangential: Option<Tangential>,
     /// Number of shards N = array tasks 1..=N.
     pub shards: usize,
     /// CPUs per task, also the worker threads of each build (`RAYON_NUM_THREADS`).
@@ -142,6 +145,9 @@ impl SlurmJob {
             vars += &format!("AXES={}\n", shell_quote(a));
             inputs += " --axes \"$AXES\"";
         }
+        if let Some(t) = self.tangential {
+            inputs += &format!(" --tangential {t}");
+        }
         vars += &format!("export RAYON_NUM_THREADS=\"${{SLURM_CPUS_PER_TASK:-{c}}}\"\n");
         let build = format!(
             "#!/bin/bash\n\
@@ -226,6 +232,7 @@ mod tests {
             out: "/scratch/my tables/run 1".into(),
             params: Some("/home/u/it's params.toml".into()),
             axes: Some("/home/u/axes.toml".into()),
+            tangential: None,
             shards: 12,
             cpus_per_task: 8,
             time: Some("02:30:00".into()),
@@ -279,6 +286,20 @@ mod tests {
             ..job()
         };
         assert!(!no_verify.scripts().unwrap().merge.contains("verify"));
+    }
+
+    #[test]
+    fn the_tangential_solver_is_passed_to_every_build() {
+        let j = SlurmJob {
+            tangential: Some(Tangential::Exact),
+            ..job()
+        };
+        let b = j.scripts().unwrap().build;
+        assert!(
+            b.contains("\"$WHEELRAIL\" table build --params \"$PARAMS\" --axes \"$AXES\" --tangential exact --shard"),
+            "{b}"
+        );
+        assert!(!job().scripts().unwrap().build.contains("--tangential"));
     }
 
     #[test]

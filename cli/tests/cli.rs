@@ -455,3 +455,39 @@ fn point_rolls_backwards_in_the_turned_frame_and_lifts_the_wheel() {
     assert_eq!(lifted["max_temperature"].as_f64(), Some(293.15));
     assert_eq!(lifted["converged"], true);
 }
+
+/// `--tangential exact` selects Kalker's exact steady rolling (its sweeps reported) with Hertz's pressure
+/// unless `--pressure` says otherwise; the JSON records both. The default is FASTSIM with the parabola.
+#[test]
+fn tangential_flag_selects_the_exact_solver_and_the_json_records_it() {
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "point",
+            "--json",
+            "--creepage-x",
+            "0.002",
+            "--grid",
+            "12,12",
+        ];
+        args.extend_from_slice(extra);
+        let o = wheelrail(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
+    };
+    let fastsim = run(&[]);
+    assert_eq!(fastsim["tangential"], "fastsim");
+    assert_eq!(fastsim["pressure"], "parabolic");
+    assert_eq!(fastsim["tangential_sweeps"], 0);
+    let exact = run(&["--tangential", "exact"]);
+    assert_eq!(exact["tangential"], "exact");
+    assert_eq!(exact["pressure"], "hertz");
+    assert!(exact["tangential_sweeps"].as_u64().unwrap() > 0);
+    assert!(exact["tangential_residual"].as_f64().unwrap() <= 1e-7);
+    assert_eq!(exact["converged"], true);
+    let parabolic = run(&["--tangential", "exact", "--pressure", "parabolic"]);
+    assert_eq!(parabolic["pressure"], "parabolic");
+    let f = |v: &serde_json::Value| v["force_x"].as_f64().unwrap();
+    assert!(f(&exact) < 0.0 && f(&exact) != f(&fastsim) && f(&exact) != f(&parabolic));
+    let o = wheelrail(&["point", "--tangential", "kalker"]);
+    assert!(!o.status.success());
+}

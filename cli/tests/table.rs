@@ -622,3 +622,67 @@ fn slurm_scripts_run_task_by_task_merge_to_the_one_process_table() {
     assert_eq!(sidecar(&job.join("table"))["build"]["merged_shards"], 3);
     cleanup("slurm");
 }
+
+/// Tiny axes around the default contact for a table of the exact tangential solver.
+const TINY_AXES: &str = r#"
+[creepage_x]
+points = [0.0, 0.2, 0.6, 1.8]
+raw_limit = 0.008
+[creepage_y]
+points = [0.0, 0.17, 0.6, 1.8]
+raw_limit = 0.003
+[spin]
+points = [-0.1, -0.02, 0.02, 0.1]
+raw_limit = 0.2
+[normal_force]
+points = [100e3]
+[speed]
+points = [30.0]
+[wetness]
+points = [0.0]
+[semi_axis_ratio]
+points = [0.5, 0.6]
+[reference_pressure]
+points = [0.7e9, 0.85e9]
+"#;
+
+/// `table build --tangential exact` records the method in table.json's parameters; the table serves only
+/// points of the same method (with FASTSIM's parameters `point --table` refuses it).
+#[test]
+fn a_table_of_the_exact_tangential_solver_records_it() {
+    let (params, axes) = files("tangential", SMALL_GRID, TINY_AXES);
+    let dir = tmp("tangential-table");
+    build(&params, &axes, &dir, &["--tangential", "exact"], "2");
+    let side = sidecar(&dir);
+    assert_eq!(side["params"]["tangential"], "exact", "{}", side["params"]);
+    let t = Table::load(&dir).unwrap();
+    let mut exact = params_grid(8);
+    exact.tangential = wheelrail::Tangential::Exact;
+    assert!(t.matches(&exact) && !t.matches(&params_grid(8)));
+    let point = |extra: &[&str]| {
+        let mut a = vec![
+            "point",
+            "--json",
+            "--params",
+            s(&params),
+            "--creepage-x",
+            "0.001",
+            "--table",
+            s(&dir),
+        ];
+        a.extend_from_slice(extra);
+        wheelrail(&a, None)
+    };
+    let v: serde_json::Value =
+        serde_json::from_str(&ok(&point(&["--tangential", "exact"]))).unwrap();
+    assert_eq!(v["evaluation"], "table");
+    assert_eq!(v["tangential"], "exact");
+    let o = point(&[]);
+    assert!(!o.status.success());
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("other parameters"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    cleanup("tangential-");
+}

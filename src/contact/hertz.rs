@@ -176,6 +176,13 @@ impl HertzContact {
         self.parabolic_peak() * s.max(0.0)
     }
 
+    /// Hertz's ellipsoidal pressure, p_n = p0·sqrt(1 − x²/a² − y²/b²), ≥ 0 [Pa] (docs/model.md §2; K.L.
+    /// Johnson, *Contact Mechanics*, 1985, eq. 7.39).
+    pub fn hertz_pressure(&self, x: f64, y: f64) -> f64 {
+        let s = 1.0 - (x / self.a).powi(2) - (y / self.b).powi(2);
+        self.p0 * s.max(0.0).sqrt()
+    }
+
     /// sqrt(a·b) [m], Kalker's c.
     pub fn c(&self) -> f64 {
         (self.a * self.b).sqrt()
@@ -236,6 +243,22 @@ mod tests {
         assert!(rel(h8.a, 2.0 * h1.a) < 1e-10);
         // parabola carries the same force: ∫∫ p dA = p_peak·πab/2
         assert!(rel(h1.parabolic_peak() * PI * h1.a * h1.b / 2.0, 100e3) < 1e-14);
+    }
+
+    /// Both pressures integrate to F_N (midpoint rule on a fine grid; the ellipsoid's square-root edge
+    /// converges slowly), and the ellipsoid peaks at p0 = 1.5·F_N/(πab).
+    #[test]
+    fn hertz_and_parabolic_pressures_carry_the_normal_force() {
+        let h = HertzContact::from_semi_axes(6e-3, 10e-3, 100e3).unwrap();
+        let grid = crate::contact::ContactGrid::for_contact(&h, 400, 400);
+        let force = |p: fn(&HertzContact, f64, f64) -> f64| {
+            let v: Vec<f64> = grid.cells.iter().map(|c| p(&h, c.x, c.y)).collect();
+            grid.integrate(&v)
+        };
+        assert!(rel(force(HertzContact::hertz_pressure), 100e3) < 1e-3);
+        assert!(rel(force(HertzContact::parabolic_pressure), 100e3) < 1e-4);
+        assert_eq!(h.hertz_pressure(0.0, 0.0), h.p0);
+        assert_eq!(h.hertz_pressure(6e-3, 0.0), 0.0);
     }
 
     #[test]

@@ -753,6 +753,40 @@ fn a_reused_setup_gives_the_bits_of_a_fresh_one() {
     }
 }
 
+/// With the exact tangential solver the set-up holds its influence operator too: reused while the grid
+/// and the elastic constants are unchanged, and a solve with the cached operator gives the bits of a fresh
+/// one (warm or cold).
+#[test]
+fn a_reused_steady_rolling_operator_gives_the_bits_of_a_fresh_one() {
+    let exact = Params {
+        tangential: crate::params::Tangential::Exact,
+        ..params()
+    };
+    let model = Model::new(exact.clone()).unwrap();
+    let other_xi = OperatingPoint {
+        creepage_x: 0.004,
+        ..inside()
+    };
+    let other_load = OperatingPoint {
+        normal_force: 90e3,
+        ..other_xi
+    };
+    // (point, set-up parts reused: shape, microcontact, heat model and operator for the same contact and
+    // speeds; shape, microcontact and operator for other surface speeds; shape and microcontact for
+    // another load, whose ellipse needs another operator)
+    let steps = [(inside(), 0), (inside(), 4), (other_xi, 3), (other_load, 2)];
+    let mut warm = None;
+    for (k, (point, reused)) in steps.into_iter().enumerate() {
+        let before = model.setup_reuses();
+        let cached = model.solve_from(&point, warm.as_ref()).unwrap();
+        assert_eq!(model.setup_reuses() - before, reused, "step {k}");
+        assert!(cached.report.tangential_sweeps > 0, "step {k}");
+        let uncached = crate::solver::solve_from(&exact, &point, warm.as_ref()).unwrap();
+        assert_eq!(all_bits(&cached), all_bits(&uncached), "step {k}");
+        warm = cached.warm_start();
+    }
+}
+
 /// Largest difference of the global results of two solutions: forces relative to F_N, temperature rise
 /// and fluid load share relative to themselves.
 fn global_difference(a: &crate::Solution, b: &crate::Solution) -> f64 {

@@ -209,6 +209,50 @@ impl std::fmt::Display for FrictionLaw {
     }
 }
 
+/// The tangential contact solver of the coupled model (docs/model.md §6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Tangential {
+    /// Kalker's simplified theory, FASTSIM with the local adhesion limit (docs/model.md §6.2).
+    #[default]
+    Fastsim,
+    /// Kalker's exact theory of steady rolling with the local adhesion limit as the traction bound
+    /// (docs/model.md §6.5 and §6.6).
+    Exact,
+}
+
+impl std::fmt::Display for Tangential {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Tangential::Fastsim => "fastsim",
+            Tangential::Exact => "exact",
+        })
+    }
+}
+
+/// The nominal normal pressure over the contact ellipse (docs/model.md §2), as asked for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Pressure {
+    /// Hertz's ellipsoid with the exact tangential solver, the parabola with FASTSIM.
+    #[default]
+    Auto,
+    /// Hertz's ellipsoidal pressure p0·sqrt(1 − x²/a² − y²/b²).
+    Hertz,
+    /// The parabola with the same force, (2F_N/(πab))·(1 − x²/a² − y²/b²) (paper §3, FASTSIM's).
+    Parabolic,
+}
+
+impl std::fmt::Display for Pressure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Pressure::Auto => "auto",
+            Pressure::Hertz => "hertz",
+            Pressure::Parabolic => "parabolic",
+        })
+    }
+}
+
 /// Polach's parameters (Wear 258, 2005), defaults: his dry set.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -342,10 +386,23 @@ impl Default for SolverParams {
     }
 }
 
+/// Whether a value is its type's default (the new keys `tangential` and `pressure` are written only when
+/// set, so that the parameters of earlier versions keep their text and their tables' fingerprints).
+fn is_default<T: Default + PartialEq>(x: &T) -> bool {
+    *x == T::default()
+}
+
 /// The complete parameter set of one wheel–rail contact.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields, default)]
 pub struct Params {
+    /// The tangential solver (TOML `tangential = "fastsim" | "exact"`; written only when exact).
+    #[serde(skip_serializing_if = "is_default")]
+    pub tangential: Tangential,
+    /// The nominal normal pressure (TOML `pressure = "auto" | "hertz" | "parabolic"`; written only when
+    /// not auto); [`Params::pressure_shape`] resolves auto.
+    #[serde(skip_serializing_if = "is_default")]
+    pub pressure: Pressure,
     /// Contact geometry.
     pub geometry: Geometry,
     /// Steel of wheel and rail.
@@ -391,6 +448,16 @@ impl Params {
     /// The parameter set as TOML text.
     pub fn to_toml_string(&self) -> String {
         toml::to_string(self).expect("parameter set always serialises")
+    }
+
+    /// The pressure used: [`Pressure::Hertz`] or [`Pressure::Parabolic`] as set, and for
+    /// [`Pressure::Auto`] Hertz's with the exact tangential solver, the parabola with FASTSIM.
+    pub fn pressure_shape(&self) -> Pressure {
+        match (self.pressure, self.tangential) {
+            (Pressure::Auto, Tangential::Exact) => Pressure::Hertz,
+            (Pressure::Auto, Tangential::Fastsim) => Pressure::Parabolic,
+            (set, _) => set,
+        }
     }
 
     /// Checks the geometry ([`Geometry::validate`]: the semi-axes against [`spec::SEMI_AXIS_RANGE`], the
@@ -554,6 +621,35 @@ mod tests {
         );
         p.geometry.semi_axes = Some([5e-3, 1e-2]);
         p.validate().unwrap();
+    }
+
+    /// `tangential` and `pressure` are TOML keys; written only when not their defaults, so that the
+    /// default parameters keep the text (and so the table fingerprint) of earlier versions.
+    #[test]
+    fn tangential_and_pressure_are_keys_written_only_when_set() {
+        let p = Params::default();
+        let text = p.to_toml_string();
+        assert!(
+            !text.contains("tangential") && !text.contains("pressure"),
+            "{text}"
+        );
+        assert_eq!(p.pressure_shape(), Pressure::Parabolic);
+        let q = Params::from_toml_str("tangential = \"exact\"\n").unwrap();
+        assert_eq!(q.tangential, Tangential::Exact);
+        assert_eq!(q.pressure_shape(), Pressure::Hertz);
+        assert_eq!(Params::from_toml_str(&q.to_toml_string()).unwrap(), q);
+        let json = serde_json::to_value(&q).unwrap();
+        assert_eq!(json["tangential"], "exact");
+        assert!(json.get("pressure").is_none());
+        let r =
+            Params::from_toml_str("tangential = \"exact\"\npressure = \"parabolic\"\n").unwrap();
+        assert_eq!(r.pressure_shape(), Pressure::Parabolic);
+        let f = Params::from_toml_str("pressure = \"hertz\"\n").unwrap();
+        assert_eq!(
+            (f.tangential, f.pressure_shape()),
+            (Tangential::Fastsim, Pressure::Hertz)
+        );
+        assert!(Params::from_toml_str("tangential = \"kalker\"\n").is_err());
     }
 
     #[test]

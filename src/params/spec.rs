@@ -14,7 +14,8 @@
 //! with an `fmu` entry, `modelDescription/modelDescription.xml` (`make model-description`).
 //!
 //! Parameters that are not scalars stay special-cased where they are used: the friction law
-//! (`friction.law`), frictional heating on/off (`solver.heat`), the prescribed semi-axes
+//! (`friction.law`), the tangential solver and the normal pressure (`tangential`, `pressure`), frictional
+//! heating on/off (`solver.heat`), the prescribed semi-axes
 //! (`geometry.semi_axes`, range [`SEMI_AXIS_RANGE`], keys [`Key::SemiAxisA`] and [`Key::SemiAxisB`]) and
 //! the pairs of the command line (`--curvatures A,B`, `--semi-axes a,b`, `--grid NX,NY`, whose ranges are
 //! those of the rows they set).

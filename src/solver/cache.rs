@@ -6,7 +6,8 @@
 //! before: the cache changes no result and is part of no state. One entry per kind (the last one made):
 //! the contact shape of a geometry (docs/model.md §2), the microcontact model of the roughness (§4) and
 //! the heat model of a grid and a pair of surface speeds (§7), which is most of the fixed cost of a
-//! solve. A heat model is reused only while the contact ellipse (so the grid), the rolling speed and the
+//! solve, and the exact tangential solver's influence operator of a grid and the elastic constants
+//! (§6.5, `tangential = "exact"` only). A heat model is reused only while the contact ellipse (so the grid), the rolling speed and the
 //! longitudinal creepage (so the surface speeds V·(1 ± ξ/2)) are unchanged: the influence coefficients
 //! depend on the Péclet number v·h_x/(2κ) and the aspect h_y/h_x through quadratures with no exact
 //! rescaling, so any other speed or ellipse needs new tables.
@@ -15,6 +16,7 @@ use crate::contact::ContactGrid;
 use crate::error::Result;
 use crate::microcontact::Microcontact;
 use crate::params::{Geometry, Material, Roughness};
+use crate::tangential::exact::SteadyRolling;
 use crate::thermal::HeatModel;
 use std::sync::{Arc, Mutex, PoisonError};
 
@@ -83,13 +85,24 @@ impl HeatKey {
     }
 }
 
+/// The inputs of a steady-rolling operator ([`SteadyRolling::new`]): the grid (semi-axes, cell counts),
+/// the shear modulus and Poisson's ratio.
+#[derive(Debug, PartialEq)]
+struct SteadyKey {
+    semi_axes: [u64; 2],
+    cells: [usize; 2],
+    elastic: [u64; 2],
+}
+
 /// The entries, each with the inputs it was made from.
 #[derive(Debug, Default)]
 struct Entries {
     shape: Option<(ShapeKey, ContactShape)>,
     micro: Option<([u64; 6], Arc<Microcontact>)>,
     heat: Option<(HeatKey, Arc<HeatModel>)>,
-    /// How many set-ups were taken from the cache (shape, microcontact and heat model counted alike).
+    steady: Option<(SteadyKey, Arc<SteadyRolling>)>,
+    /// How many set-ups were taken from the cache (shape, microcontact, heat model and steady-rolling
+    /// operator counted alike).
     hits: usize,
 }
 
@@ -161,6 +174,26 @@ impl SetupCache {
             |e| &mut e.heat,
             HeatKey::new(grid, v_wheel, v_rail, material),
             || HeatModel::new(grid, v_wheel, v_rail, material).map(Arc::new),
+        )
+    }
+
+    /// [`SteadyRolling::new`] of `grid` for shear modulus `shear_modulus` [Pa] and Poisson's ratio
+    /// `poisson`.
+    pub(super) fn steady_rolling(
+        &self,
+        grid: &ContactGrid,
+        shear_modulus: f64,
+        poisson: f64,
+    ) -> Result<Arc<SteadyRolling>> {
+        get_or_make(
+            self,
+            |e| &mut e.steady,
+            SteadyKey {
+                semi_axes: bits([grid.a, grid.b]),
+                cells: [grid.nx, grid.ny],
+                elastic: bits([shear_modulus, poisson]),
+            },
+            || SteadyRolling::new(grid, shear_modulus, poisson).map(Arc::new),
         )
     }
 

@@ -2,7 +2,8 @@
 //!
 //! Start at T = T0 (or a warm start's temperature), p_f = 0. Each iteration: materials at T → microcontact
 //! and fluid film ([`Setup::local`]) → failure stress and adhesion limit ([`Setup::adhesion`]) → FASTSIM
-//! (traction, slip) → frictional heat → surface temperature (the heat partition) → residual → relaxed
+//! or, with `tangential = "exact"`, Kalker's exact steady rolling with τ_l as the traction bound
+//! (docs/model.md §6.5; started from the previous iteration's tractions) (traction, slip) → frictional heat → surface temperature (the heat partition) → residual → relaxed
 //! temperature update ([`Relaxation`]); a film without solution backtracks the update ([`Backtracking`]).
 
 use super::assembly::{Iterate, assemble};
@@ -29,7 +30,8 @@ pub fn solve(params: &Params, point: &OperatingPoint) -> Result<Solution> {
 }
 
 /// As [`solve`], starting the fixed point from a nearby solution's state ([`WarmStart`]): its temperature,
-/// its separations as the microcontact Newton's starting points and its film as the film solver's start.
+/// its separations as the microcontact Newton's starting points, its film as the film solver's start and
+/// its tractions as the exact tangential solver's start.
 /// The start is used only if it fits the grid (same nx × ny); otherwise the solve starts cold. The
 /// converged result is the same fixed point to within the solver tolerance.
 pub fn solve_from(
@@ -90,6 +92,11 @@ struct Coupled<'s, 'w> {
     temperature_change: f64,
     /// The last heat partition: the start of the next one.
     heat_solution: Option<HeatSolution>,
+    /// The tractions to start the exact tangential solve from [Pa]: the last iteration's, or the warm
+    /// start's (unused with FASTSIM).
+    traction_start: Option<Vec<[f64; 2]>>,
+    /// Whether the last exact tangential solve converged (true with FASTSIM, which does not iterate).
+    tangential_converged: bool,
     relaxation: Relaxation,
     backtracking: Backtracking,
     /// Whether this iteration's film had no solution (Newton's last film kept, see [`Coupled::local`]).
@@ -128,6 +135,10 @@ impl<'s, 'w> Coupled<'s, 'w> {
             warm_temperature,
             temperature_change: f64::INFINITY,
             heat_solution: None,
+            traction_start: warm
+                .filter(|_| setup.steady.is_some())
+                .map(|w| w.traction.clone()),
+            tangential_converged: true,
             relaxation: Relaxation::new(setup.params.solver.relaxation),
             backtracking: Backtracking::default(),
             film_failed: false,
@@ -157,6 +168,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
                 outer_met,
                 step.local.film.as_ref(),
                 solver.fluid_tolerance,
+                self.tangential_converged,
                 self.heat_solution.as_ref(),
             );
             let termination = match unmet {
@@ -193,13 +205,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
             return Ok(None);
         };
         let adhesion = self.setup.adhesion(&local, &mats);
-        let traction = fastsim(
-            &self.setup.grid,
-            self.setup.creep,
-            self.setup.point.speed,
-            &self.setup.flex,
-            &adhesion.limit,
-        )?;
+        let traction = self.tangential(&adhesion.limit)?;
         let (target, heat_flux_wheel) = self.heat(&traction.power_density)?;
         Ok(Some(Step {
             local,
@@ -284,6 +290,34 @@ impl<'s, 'w> Coupled<'s, 'w> {
         Ok(None)
     }
 
+    /// The traction field under the adhesion limit `bound` [Pa]: FASTSIM, or Kalker's exact steady rolling
+    /// (docs/model.md §6.5) started from the last iteration's tractions (or the warm start's), its sweeps,
+    /// residual and convergence recorded for the report.
+    fn tangential(&mut self, bound: &[f64]) -> Result<TractionField> {
+        let setup = self.setup;
+        let Some(steady) = &setup.steady else {
+            return fastsim(
+                &setup.grid,
+                setup.creep,
+                setup.point.speed,
+                &setup.flex,
+                bound,
+            );
+        };
+        let exact = steady.solve(
+            &setup.grid,
+            setup.creep,
+            setup.point.speed,
+            bound,
+            self.traction_start.as_deref(),
+            setup.exact,
+        )?;
+        self.report.tangential_sweeps = exact.sweeps;
+        self.report.tangential_residual = exact.residual;
+        self.tangential_converged = exact.converged;
+        Ok(exact.field)
+    }
+
     /// The surface temperature [K] and the heat flux density into the wheel [W/m²] that the frictional
     /// power density `q` [W/m²] produces: T0 + the rise of the heat partition (warm-started from the last
     /// one), or T0 and no flux without a heat model.
@@ -337,6 +371,9 @@ impl<'s, 'w> Coupled<'s, 'w> {
         self.prev_tau = Some(step.adhesion.limit);
         self.dry_guess = Some(step.local.dry_separation);
         self.film = step.local.film;
+        if self.setup.steady.is_some() {
+            self.traction_start = Some(step.traction.traction);
+        }
     }
 
     /// The final iterate, with the temperature produced by its traction field (equal to the iterate within
@@ -358,4 +395,64 @@ fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
     a.iter()
         .zip(b)
         .fold(0.0, |m: f64, (x, y)| m.max((x - y).abs()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::Tangential;
+
+    /// The solve of `params` at `point` with every exact tangential solve limited to `max_sweeps`.
+    fn limited(params: &Params, point: &OperatingPoint, max_sweeps: usize) -> Iterate {
+        let cache = SetupCache::default();
+        let hertz = super::super::setup::normal_contact(params, point.normal_force).unwrap();
+        let mat0 = params.material.at(params.material.bulk_temperature);
+        let kalker = kalker_coefficients(hertz.a, hertz.b, mat0.poisson).unwrap();
+        let creep = Creepages {
+            xi: point.creepage_x,
+            eta: point.creepage_y,
+            phi: point.spin,
+        };
+        let mut setup = Setup::new(params, point, hertz, &mat0, &kalker, creep, &cache).unwrap();
+        setup.exact.max_sweeps = max_sweeps;
+        Coupled::start(&setup, None).run().unwrap()
+    }
+
+    /// A tangential solve that does not converge keeps the outer iteration going from its tractions (one
+    /// more sweep per iteration here: the bound is fixed, constant μ and heat off), and at the iteration
+    /// limit leaves the point unconverged, limited by the tangential solve.
+    #[test]
+    fn an_unconverged_tangential_solve_is_continued_and_else_named() {
+        let mut p = Params {
+            tangential: Tangential::Exact,
+            ..Params::default()
+        };
+        p.friction.law = FrictionLaw::Constant;
+        p.solver.heat = false;
+        p.grid.nx = 12;
+        p.grid.ny = 12;
+        let point = OperatingPoint {
+            creepage_x: 0.001,
+            ..OperatingPoint::default()
+        };
+        p.solver.max_iterations = 3;
+        let short = limited(&p, &point, 1);
+        assert_eq!(
+            short.report.termination,
+            Termination::MaxIterationsReached {
+                limited_by: Limiter::Tangential
+            }
+        );
+        assert!(!short.report.converged);
+        assert_eq!(short.report.iterations, 3);
+        assert!(short.report.tangential_residual > p.solver.tolerance.min(1e-7));
+        // with enough outer iterations the sweeps add up to the converged solve
+        p.solver.max_iterations = 200;
+        let continued = limited(&p, &point, 1);
+        assert!(continued.report.converged && continued.report.iterations > 3);
+        let full = limited(&p, &point, 500);
+        assert_eq!(full.report.iterations, 1);
+        let f = continued.traction.force_x;
+        assert!((f - full.traction.force_x).abs() <= 1e-6 * f.abs(), "{f}");
+    }
 }

@@ -17,6 +17,9 @@ pub enum Limiter {
     /// The fluid film solve of the last outer iteration did not converge within `solver.max_fluid_sweeps`,
     /// or found no film at all ([`Termination::Stalled`]).
     Film,
+    /// The exact tangential solve of the last outer iteration (`tangential = "exact"`) did not reach its
+    /// tolerance within its sweep limit (docs/model.md §6.5).
+    Tangential,
     /// The heat partition's GMRES of the last outer iteration did not reach its tolerance.
     Heat,
 }
@@ -26,6 +29,7 @@ impl std::fmt::Display for Limiter {
         f.write_str(match self {
             Limiter::Outer => "outer",
             Limiter::Film => "film",
+            Limiter::Tangential => "tangential",
             Limiter::Heat => "heat",
         })
     }
@@ -33,17 +37,21 @@ impl std::fmt::Display for Limiter {
 
 /// The first unmet convergence criterion of one outer iteration, inner solvers first (an unconverged inner
 /// solve makes the outer residual meaningless): the film of the iteration (its solve reached its sweep
-/// limit), then its heat partition (GMRES exhausted its budget), then the outer iteration (its residual
-/// above the tolerance, `outer_met` false, or a film solved only to the looser tolerance of an early
-/// iteration rather than to `fluid_tolerance`: another iteration was needed). None when all are met.
+/// limit), then its tangential solve (`tangential_converged` false: the exact solver's sweep limit), then
+/// its heat partition (GMRES exhausted its budget), then the outer iteration (its residual above the
+/// tolerance, `outer_met` false, or a film solved only to the looser tolerance of an early iteration
+/// rather than to `fluid_tolerance`: another iteration was needed). None when all are met.
 pub(super) fn first_unmet(
     outer_met: bool,
     film: Option<&FilmSolution>,
     fluid_tolerance: f64,
+    tangential_converged: bool,
     heat: Option<&HeatSolution>,
 ) -> Option<Limiter> {
     if !film.is_none_or(|f| f.converged) {
         Some(Limiter::Film)
+    } else if !tangential_converged {
+        Some(Limiter::Tangential)
     } else if !heat.is_none_or(|h| h.converged) {
         Some(Limiter::Heat)
     } else if !(outer_met && film.is_none_or(|f| f.residual <= fluid_tolerance)) {
@@ -56,7 +64,8 @@ pub(super) fn first_unmet(
 /// Why the outer iteration stopped.
 ///
 /// In JSON (flattened into [`SolverReport`]'s object) it is two keys: `termination` ("converged",
-/// "max_iterations_reached", "stalled" or "closed_form") and `limited_by` ("outer", "film", "heat", or null
+/// "max_iterations_reached", "stalled" or "closed_form") and `limited_by` ("outer", "film", "tangential",
+/// "heat", or null
 /// unless the iteration limit was reached or the iteration stalled).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Termination {
@@ -136,6 +145,11 @@ pub struct SolverReport {
     /// Largest volume-balance residual of a cell of the last film solve, relative to the flow of the
     /// inlet film through one cell width (0 without fluid) [-].
     pub fluid_balance_residual: f64,
+    /// Gauss–Seidel sweeps of the last exact tangential solve (0 with FASTSIM, docs/model.md §6.5).
+    pub tangential_sweeps: usize,
+    /// Residual of the last exact tangential solve: its largest traction change of a sweep over the largest
+    /// traction (0 with FASTSIM) [-].
+    pub tangential_residual: f64,
     /// GMRES steps of the last heat partition solve (0 without heat).
     pub heat_iterations: usize,
     /// Relative residual of the last heat partition solve (0 without heat) [-].
@@ -157,6 +171,8 @@ impl SolverReport {
             fluid_sweeps: 0,
             fluid_residual: 0.0,
             fluid_balance_residual: 0.0,
+            tangential_sweeps: 0,
+            tangential_residual: 0.0,
             heat_iterations: 0,
             heat_residual: 0.0,
             temperature_backtracks: 0,
@@ -225,17 +241,21 @@ mod tests {
     #[test]
     fn the_first_unmet_criterion_is_reported_inner_solvers_first() {
         let (good_film, good_heat) = (film(true, 1e-9), heat(true));
-        let all =
-            |outer, f: &FilmSolution, h: &HeatSolution| first_unmet(outer, Some(f), 1e-8, Some(h));
+        let all = |outer, f: &FilmSolution, h: &HeatSolution| {
+            first_unmet(outer, Some(f), 1e-8, true, Some(h))
+        };
         assert_eq!(all(true, &good_film, &good_heat), None);
-        assert_eq!(first_unmet(true, None, 1e-8, None), None);
+        assert_eq!(first_unmet(true, None, 1e-8, true, None), None);
         assert_eq!(all(false, &good_film, &good_heat), Some(Limiter::Outer));
-        assert_eq!(first_unmet(false, None, 1e-8, None), Some(Limiter::Outer));
+        assert_eq!(
+            first_unmet(false, None, 1e-8, true, None),
+            Some(Limiter::Outer)
+        );
         // the heat partition's GMRES exhausted its budget
         assert_eq!(all(true, &good_film, &heat(false)), Some(Limiter::Heat));
         assert_eq!(all(false, &good_film, &heat(false)), Some(Limiter::Heat));
         assert_eq!(
-            first_unmet(true, None, 1e-8, Some(&heat(false))),
+            first_unmet(true, None, 1e-8, true, Some(&heat(false))),
             Some(Limiter::Heat)
         );
         // the film did not converge; one converged only to the looser tolerance of an early iteration
@@ -251,6 +271,22 @@ mod tests {
         assert_eq!(
             all(false, &film(false, 1.0), &heat(false)),
             Some(Limiter::Film)
+        );
+        // the exact tangential solve reached its sweep limit: after the film, before the heat partition
+        let tangential = |outer, f: &FilmSolution, h: &HeatSolution| {
+            first_unmet(outer, Some(f), 1e-8, false, Some(h))
+        };
+        assert_eq!(
+            tangential(false, &good_film, &heat(false)),
+            Some(Limiter::Tangential)
+        );
+        assert_eq!(
+            tangential(true, &film(false, 1e-9), &good_heat),
+            Some(Limiter::Film)
+        );
+        assert_eq!(
+            first_unmet(true, None, 1e-8, false, None),
+            Some(Limiter::Tangential)
         );
     }
 
@@ -276,6 +312,10 @@ mod tests {
         assert_eq!(v["termination"], "stalled");
         assert_eq!(v["limited_by"], "film");
         assert_eq!(v["converged"], false);
+        r.stop(Termination::MaxIterationsReached {
+            limited_by: Limiter::Tangential,
+        });
+        assert_eq!(serde_json::to_value(r).unwrap()["limited_by"], "tangential");
         let v = serde_json::to_value(SolverReport::closed_form()).unwrap();
         assert_eq!(v["termination"], "closed_form");
         assert!(v["limited_by"].is_null());

@@ -7,7 +7,10 @@ use crate::error::Result;
 use crate::fluid::base_height;
 use crate::materials::MaterialState;
 use crate::microcontact::Microcontact;
-use crate::params::{FrictionLaw, Geometry, Material, OperatingPoint, Params};
+use crate::params::{
+    FrictionLaw, Geometry, Material, OperatingPoint, Params, Pressure, Tangential,
+};
+use crate::tangential::exact::{ExactSettings, SteadyRolling};
 use crate::tangential::{Creepages, Flexibilities, KalkerCoefficients};
 use crate::thermal::HeatModel;
 use std::sync::Arc;
@@ -74,7 +77,8 @@ pub(super) struct Setup<'a> {
     pub flex: Flexibilities,
     /// The contact grid.
     pub grid: ContactGrid,
-    /// Nominal pressure per cell: the parabola with the Hertz force [Pa].
+    /// Nominal pressure per cell [Pa]: the parabola with the Hertz force, or Hertz's ellipsoid
+    /// ([`Params::pressure_shape`]); the microcontact, fluid, friction and heat models all take it.
     pub p_n: Vec<f64>,
     /// The microcontact model of the roughness.
     pub micro: Arc<Microcontact>,
@@ -82,13 +86,18 @@ pub(super) struct Setup<'a> {
     pub base_height: f64,
     /// The heat model (None with heat switched off or in pure rolling, where nothing heats).
     pub heat: Option<Arc<HeatModel>>,
+    /// The exact tangential solver's influence operator of the grid (None with FASTSIM).
+    pub steady: Option<Arc<SteadyRolling>>,
+    /// The settings of every exact tangential solve (the defaults: tolerance 1e-7, 500 sweeps).
+    pub exact: ExactSettings,
 }
 
 impl<'a> Setup<'a> {
-    /// The grid of the contact `hertz` with its parabolic pressure, the flexibilities from the Kalker
+    /// The grid of the contact `hertz` with its nominal pressure ([`Params::pressure_shape`]), the flexibilities from the Kalker
     /// coefficients and the shear modulus of `mat0` (the material at the bulk temperature), the heat model
-    /// at the surface speeds and the microcontact model of the roughness, the last two from `cache` when
-    /// it holds them for these inputs.
+    /// at the surface speeds, the microcontact model of the roughness and, with the exact tangential
+    /// solver, its influence operator of the grid (G and ν of `mat0`), the last three from `cache` when it
+    /// holds them for these inputs.
     pub fn new(
         params: &'a Params,
         point: &'a OperatingPoint,
@@ -100,10 +109,14 @@ impl<'a> Setup<'a> {
     ) -> Result<Self> {
         let grid = ContactGrid::for_contact(&hertz, params.grid.nx, params.grid.ny);
         let flex = Flexibilities::new(hertz.a, hertz.b, mat0.shear_modulus, kalker);
+        let pressure = match params.pressure_shape() {
+            Pressure::Hertz => HertzContact::hertz_pressure,
+            Pressure::Parabolic | Pressure::Auto => HertzContact::parabolic_pressure,
+        };
         let p_n: Vec<f64> = grid
             .cells
             .iter()
-            .map(|c| hertz.parabolic_pressure(c.x, c.y))
+            .map(|c| pressure(&hertz, c.x, c.y))
             .collect();
         let rolling = creep.xi == 0.0 && creep.eta == 0.0 && creep.phi == 0.0;
         let heat = if params.solver.heat && !rolling {
@@ -113,6 +126,12 @@ impl<'a> Setup<'a> {
             None
         };
         let micro = cache.microcontact(&params.roughness)?;
+        let steady = match params.tangential {
+            Tangential::Exact => {
+                Some(cache.steady_rolling(&grid, mat0.shear_modulus, mat0.poisson)?)
+            }
+            Tangential::Fastsim => None,
+        };
         Ok(Self {
             params,
             point,
@@ -124,6 +143,8 @@ impl<'a> Setup<'a> {
             p_n,
             micro,
             heat,
+            steady,
+            exact: ExactSettings::default(),
         })
     }
 

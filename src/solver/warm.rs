@@ -20,6 +20,9 @@ pub struct WarmStart {
     pub fluid_pressure: Vec<f64>,
     /// Fluid height l_f [m].
     pub fluid_height: Vec<f64>,
+    /// Tangential traction on the wheel [Pa]: the start of the exact tangential solve (docs/model.md
+    /// §6.5; FASTSIM needs none).
+    pub traction: Vec<[f64; 2]>,
 }
 
 impl WarmStart {
@@ -32,6 +35,7 @@ impl WarmStart {
             separation: fields.separation.clone(),
             fluid_pressure: fields.fluid_pressure.clone(),
             fluid_height: fields.fluid_height.clone(),
+            traction: fields.traction.clone(),
         }
     }
 
@@ -49,6 +53,7 @@ impl WarmStart {
             ]
             .iter()
             .all(|v| v.len() == n)
+            && self.traction.len() == n
     }
 
     /// The film as the film solver's starting iterate (None without fluid).

@@ -261,7 +261,7 @@ const BLOBS: usize = 2;
 /// of range.
 fn gen_vr(r: &mut Rng, ty: Ty, want: Option<&str>) -> u32 {
     if r.chance(0.06) {
-        return r.pick(&[32, 33, 100, 1000, u32::MAX, 0, 24]);
+        return r.pick(&[34, 35, 100, 1000, u32::MAX, 0, 24]);
     }
     let vs: Vec<u32> = variables()
         .iter()

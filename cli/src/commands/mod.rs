@@ -13,7 +13,7 @@ use std::path::PathBuf;
 use wheelrail::params::spec::Spec;
 use wheelrail::params::{Input, Key, Param};
 use wheelrail::solver::{GlobalResults, SolverReport};
-use wheelrail::{FrictionLaw, OperatingPoint, Params};
+use wheelrail::{FrictionLaw, OperatingPoint, Params, Pressure, Tangential};
 
 /// Wheel–rail friction after Tomberger et al. (Wear 271, 2011): exact coupled solver.
 #[derive(Debug, Parser)]
@@ -51,6 +51,35 @@ pub enum LawArg {
     Polach,
 }
 
+/// Tangential solver names on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum TangentialArg {
+    /// FASTSIM, Kalker's simplified theory.
+    Fastsim,
+    /// Kalker's exact steady-rolling theory.
+    Exact,
+}
+
+impl From<TangentialArg> for Tangential {
+    fn from(t: TangentialArg) -> Tangential {
+        match t {
+            TangentialArg::Fastsim => Tangential::Fastsim,
+            TangentialArg::Exact => Tangential::Exact,
+        }
+    }
+}
+
+/// Normal pressure names on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum PressureArg {
+    /// Hertz's ellipsoid with --tangential exact, the parabola with FASTSIM.
+    Auto,
+    /// Hertz's ellipsoidal pressure.
+    Hertz,
+    /// The parabola with the same force.
+    Parabolic,
+}
+
 /// The operating point and the model options shared by all subcommands.
 #[derive(Debug, Args, Clone)]
 pub struct ModelArgs {
@@ -59,6 +88,13 @@ pub struct ModelArgs {
     /// Local friction law [default: tomberger, or the parameter file's].
     #[arg(long, value_enum)]
     friction_law: Option<LawArg>,
+    /// Tangential contact solver [default: fastsim, or the parameter file's].
+    #[arg(long, value_enum)]
+    tangential: Option<TangentialArg>,
+    /// Nominal normal pressure [default: auto (hertz with exact, parabolic with fastsim), or the
+    /// parameter file's].
+    #[arg(long, value_enum)]
+    pressure: Option<PressureArg>,
     /// Gap curvatures A,B [1/m] (along x, along y).
     #[arg(long, value_name = "A,B", conflicts_with = "semi_axes")]
     curvatures: Option<String>,
@@ -242,6 +278,16 @@ impl ModelArgs {
                 LawArg::Polach => FrictionLaw::Polach,
             };
         }
+        if let Some(t) = self.tangential {
+            p.tangential = t.into();
+        }
+        if let Some(shape) = self.pressure {
+            p.pressure = match shape {
+                PressureArg::Auto => Pressure::Auto,
+                PressureArg::Hertz => Pressure::Hertz,
+                PressureArg::Parabolic => Pressure::Parabolic,
+            };
+        }
         if let Some(c) = &self.curvatures {
             let [a, b] = pair("curvatures", c)?;
             p.geometry.curvature_x = a;
@@ -337,7 +383,24 @@ pub fn warn_unconverged(report: &SolverReport) {
     }
 }
 
-/// The JSON object of a solution: global results, convergence report and the friction law.
+/// The model's methods as JSON keys: `friction_law`, `tangential` ("fastsim" or "exact") and `pressure`
+/// (the pressure used: "parabolic" or "hertz").
+pub fn methods_json(params: &Params) -> serde_json::Map<String, serde_json::Value> {
+    let mut m = serde_json::Map::new();
+    m.insert(
+        "friction_law".into(),
+        params.friction.law.to_string().into(),
+    );
+    m.insert("tangential".into(), params.tangential.to_string().into());
+    m.insert(
+        "pressure".into(),
+        params.pressure_shape().to_string().into(),
+    );
+    m
+}
+
+/// The JSON object of a solution: global results, convergence report and the model's methods
+/// ([`methods_json`]).
 pub fn solution_json(
     params: &Params,
     global: &GlobalResults,
@@ -349,10 +412,7 @@ pub fn solution_json(
     if let serde_json::Value::Object(rm) = r {
         obj.extend(rm);
     }
-    obj.insert(
-        "friction_law".into(),
-        serde_json::Value::String(params.friction.law.to_string()),
-    );
+    obj.extend(methods_json(params));
     v
 }
 

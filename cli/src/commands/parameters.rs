@@ -149,6 +149,10 @@ fn markdown() -> String {
         "\n## Parameters that are not scalars\n\
          \n\
          - `friction.law`: `\"tomberger\"` (default), `\"constant\"` or `\"polach\"`; flag `--friction-law`.\n\
+         - `tangential`: `\"fastsim\"` (default) or `\"exact\"` (Kalker's exact steady rolling, docs/model.md \
+         §6.5); flag `--tangential`; FMU parameter `tangential` (0 fastsim, 1 exact).\n\
+         - `pressure`: `\"auto\"` (default: Hertz's ellipsoid with the exact solver, the parabola with \
+         FASTSIM), `\"hertz\"` or `\"parabolic\"`; flag `--pressure`.\n\
          - `geometry.semi_axes = [a, b]` [m]: prescribed semi-axes instead of the Hertz solution from the \
          curvatures (each {}); flag `--semi-axes a,b`. `--curvatures A,B` sets both \
          curvatures and removes prescribed semi-axes.\n\

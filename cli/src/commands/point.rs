@@ -142,7 +142,7 @@ fn json(
         Evaluated::Exact(x) => (solution_json(params, &x.global, &x.report), "exact"),
         Evaluated::Table(o) => (super::table::point_json(params, input, o)?, "table"),
         Evaluated::Lifted(o) => {
-            let v = serde_json::json!({
+            let mut v = serde_json::json!({
                 "force_x": o.force_x,
                 "force_y": o.force_y,
                 "spin_moment": o.spin_moment,
@@ -151,8 +151,10 @@ fn json(
                 "max_temperature": o.max_temperature,
                 "fluid_load_fraction": o.fluid_load_fraction,
                 "converged": o.converged,
-                "friction_law": params.friction.law.to_string(),
             });
+            v.as_object_mut()
+                .expect("object")
+                .extend(super::methods_json(params));
             (v, "lifted")
         }
     };

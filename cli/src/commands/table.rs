@@ -2,6 +2,7 @@
 //! of sharded builds (issue 13), and the JSON of a point
 //! evaluated by table (`wheelrail point --table DIR`, [`point_json`]).
 
+use super::TangentialArg;
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -41,6 +42,10 @@ struct BuildArgs {
     /// Parameter file (TOML) [default: the default parameter set].
     #[arg(long, value_name = "FILE.toml")]
     params: Option<PathBuf>,
+    /// Tangential contact solver of every point [default: fastsim, or the parameter file's]; recorded
+    /// in table.json's parameters.
+    #[arg(long, value_enum)]
+    tangential: Option<TangentialArg>,
     /// Axes file (TOML): per axis `points = [...]`, or `min`, `max`, `count`, `spacing` (linear, log,
     /// sinh) and `scale` (sinh) [default: the built-in axes].
     #[arg(long, value_name = "FILE.toml")]
@@ -66,6 +71,9 @@ struct SlurmArgs {
     /// Parameter file (TOML) of every shard [default: the default parameter set].
     #[arg(long, value_name = "FILE.toml")]
     params: Option<PathBuf>,
+    /// Tangential contact solver of every shard [default: fastsim, or the parameter file's].
+    #[arg(long, value_enum)]
+    tangential: Option<TangentialArg>,
     /// Axes file (TOML) of every shard [default: the built-in axes].
     #[arg(long, value_name = "FILE.toml")]
     axes: Option<PathBuf>,
@@ -156,10 +164,13 @@ fn progress(len: usize, what: &str) -> ProgressBar {
 }
 
 fn build(a: &BuildArgs) -> Result<()> {
-    let params = match &a.params {
+    let mut params = match &a.params {
         Some(p) => Params::from_toml_file(p)?,
         None => Params::default(),
     };
+    if let Some(t) = a.tangential {
+        params.tangential = t.into();
+    }
     let axes = match &a.axes {
         Some(p) => Axes::from_toml_file(p)?,
         None => Axes::default(),
@@ -269,6 +280,7 @@ fn slurm(a: &SlurmArgs) -> Result<()> {
             .as_deref()
             .map(|p| canonical("axes file", p))
             .transpose()?,
+        tangential: a.tangential.map(Into::into),
         shards: a.shards,
         cpus_per_task: a.cpus_per_task,
         time: a.time.clone(),
@@ -470,7 +482,7 @@ pub fn point_json(
     o: &TableOutput,
 ) -> Result<serde_json::Value> {
     let h = wheelrail::solver::normal_contact(params, pt.normal_force)?;
-    Ok(serde_json::json!({
+    let mut v = serde_json::json!({
         "force_x": o.force_x,
         "force_y": o.force_y,
         "spin_moment": o.spin_moment,
@@ -484,6 +496,9 @@ pub fn point_json(
         "frictional_power": o.frictional_power,
         "converged": o.converged,
         "in_range": o.in_range,
-        "friction_law": params.friction.law.to_string(),
-    }))
+    });
+    v.as_object_mut()
+        .expect("object")
+        .extend(super::methods_json(params));
+    Ok(v)
 }

@@ -47,7 +47,7 @@ use wheelrail::model::{
     DERIVATIVE_TOLERANCE, Evaluated, Evaluation, Evaluator, Fallback, LIFT_OFF_LOAD,
     Mode::ExactOnly, Notice, Notices, Policy, WarmStart,
 };
-use wheelrail::params::{Geometry, Key, Param};
+use wheelrail::params::{Geometry, Key, Param, Tangential};
 use wheelrail::table::{Jacobian, Table, TableOutput};
 use wheelrail::{Error, OperatingPoint, Params};
 
@@ -354,6 +354,15 @@ impl WheelRailModel {
         let n = usize::try_from(values.integer(GRID_SIZE)).unwrap_or(0);
         p.grid.nx = n;
         p.grid.ny = n;
+        p.tangential = match values.integer(TANGENTIAL) {
+            0 => Tangential::Fastsim,
+            1 => Tangential::Exact,
+            other => {
+                return Err(format!(
+                    "invalid value for tangential: {other} (allowed: 0 fastsim, 1 exact)"
+                ));
+            }
+        };
         p.validate().map_err(|e| translate(e, values))?;
         Ok(p)
     }
@@ -491,15 +500,16 @@ impl WheelRailModel {
 }
 
 /// The bit patterns of the parameter values and of `grid_size`.
-type ParamKey = [u64; EXPOSED_PARAMETERS.len() + 1];
+type ParamKey = [u64; EXPOSED_PARAMETERS.len() + 2];
 
 /// The key of the parameter-set cache ([`Setup`]): the values [`WheelRailModel::params`] reads.
 fn param_key(values: &Values) -> ParamKey {
-    let mut key = [0; EXPOSED_PARAMETERS.len() + 1];
+    let mut key = [0; EXPOSED_PARAMETERS.len() + 2];
     for (k, (_, i)) in key.iter_mut().zip(EXPOSED_PARAMETERS) {
         *k = values.real(i).to_bits();
     }
     key[EXPOSED_PARAMETERS.len()] = u64::from(values.integer(GRID_SIZE) as u32);
+    key[EXPOSED_PARAMETERS.len() + 1] = u64::from(values.integer(TANGENTIAL) as u32);
     key
 }
 
@@ -890,6 +900,35 @@ mod tests {
         v.set(K_WET, Value::Real(0.3));
         let e = m.calculate(&mut v, &log).unwrap_err();
         assert!(e.contains("table only") && e.contains("differ"), "{e}");
+    }
+
+    /// `tangential` = 1 selects the exact tangential solver: a table built with FASTSIM is not used for it
+    /// (mode 0: the exact solver, one warning; mode 1: an error), and other codes are refused by name.
+    #[test]
+    fn tangential_exact_is_not_served_by_a_fastsim_table() {
+        let (log, seen) = capturing(false);
+        let mut m = WheelRailModel::new(None);
+        let mut v = with_table(0);
+        v.set(TANGENTIAL, Value::Integer(1));
+        assert_eq!(m.calculate(&mut v, &log).unwrap(), Status::Warning);
+        assert_eq!(v.integer(EVALUATION_MODE), 2);
+        assert!(seen.borrow()[0].2.contains("parameters differ"));
+        let params = WheelRailModel::params(&v).unwrap();
+        assert_eq!(params.tangential, Tangential::Exact);
+        let s = wheelrail::solve(&params, &input(&v)).unwrap();
+        assert_eq!(v.real(FORCE_LONGITUDINAL), s.global.force_x);
+        assert_eq!(v.real(FORCE_LATERAL), s.global.force_y);
+        let mut v = with_table(1);
+        v.set(TANGENTIAL, Value::Integer(1));
+        let e = WheelRailModel::new(None)
+            .calculate(&mut v, &log)
+            .unwrap_err();
+        assert!(e.contains("table only") && e.contains("differ"), "{e}");
+        v.set(TANGENTIAL, Value::Integer(2));
+        let e = WheelRailModel::new(None)
+            .calculate(&mut v, &log)
+            .unwrap_err();
+        assert!(e.contains("invalid value for tangential: 2"), "{e}");
     }
 
     /// Directional derivatives along each input, one call per seed direction, as a master asks for them.

@@ -5,9 +5,10 @@
 //! an FMU state must start its next solve from the same state as the instance the FMU state was taken of.
 //!
 //! Encoding (little-endian, inside the serialized FMU state): present u8 (0 or 1); if present, nx u32,
-//! ny u32 and the four per-cell fields temperature, separation, fluid pressure, fluid height, each as a
-//! count u32 and that many f64 bit patterns (exact). Read back, every count is checked against the bytes
-//! left and every value must be finite.
+//! ny u32 and the six per-cell fields temperature, separation, fluid pressure, fluid height, traction x,
+//! traction y, each as a count u32 and that many f64 bit patterns (exact). Read back, every count is
+//! checked against the bytes left, the two traction components must be as many, and every value must be
+//! finite.
 
 use crate::fmi2::snapshot::{ModelState, Reader, put_f64s, put_u32};
 use wheelrail::model::WarmStart;
@@ -35,6 +36,11 @@ impl ModelState for ContactState {
                 put_u32(out, field.len() as u32);
                 put_f64s(out, field);
             }
+            for k in 0..2 {
+                let component: Vec<f64> = w.traction.iter().map(|t| t[k]).collect();
+                put_u32(out, component.len() as u32);
+                put_f64s(out, &component);
+            }
         }
     }
 
@@ -47,14 +53,29 @@ impl ModelState for ContactState {
             let n = r.u32()? as usize;
             r.finite_f64s(n, &format!("the warm start's {what}"))
         };
+        let (temperature, separation, fluid_pressure, fluid_height) = (
+            field("temperature")?,
+            field("separation")?,
+            field("fluid pressure")?,
+            field("fluid height")?,
+        );
+        let (tx, ty) = (field("traction x")?, field("traction y")?);
+        if tx.len() != ty.len() {
+            return Err(format!(
+                "the warm start's traction has {} x and {} y components",
+                tx.len(),
+                ty.len()
+            ));
+        }
         Ok(ContactState {
             warm: Some(WarmStart {
                 nx,
                 ny,
-                temperature: field("temperature")?,
-                separation: field("separation")?,
-                fluid_pressure: field("fluid pressure")?,
-                fluid_height: field("fluid height")?,
+                temperature,
+                separation,
+                fluid_pressure,
+                fluid_height,
+                traction: tx.into_iter().zip(ty).map(|(x, y)| [x, y]).collect(),
             }),
         })
     }
@@ -77,6 +98,7 @@ mod tests {
             separation: vec![1e-6 / 3.0, -2e-7, 5e-324],
             fluid_pressure: vec![0.0, -0.0, 1.5e6],
             fluid_height: vec![],
+            traction: vec![[1e5 / 3.0, -0.0], [0.0, 2.5e8]],
         };
         for state in [
             ContactState { warm: None },
@@ -88,7 +110,8 @@ mod tests {
             assert_eq!(back, state);
             let bits = |s: &ContactState| {
                 s.warm.as_ref().map(|w| {
-                    [&w.temperature, &w.separation, &w.fluid_pressure]
+                    let traction: Vec<f64> = w.traction.iter().flatten().copied().collect();
+                    [&w.temperature, &w.separation, &w.fluid_pressure, &traction]
                         .map(|v| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
                 })
             };
@@ -106,6 +129,7 @@ mod tests {
                 separation: vec![],
                 fluid_pressure: vec![],
                 fluid_height: vec![],
+                traction: vec![],
             }),
         }
         .write(&mut bytes);
@@ -115,5 +139,14 @@ mod tests {
             "{e}"
         );
         assert!(read(&[2]).unwrap_err().contains("Boolean byte 2"));
+        // traction components of different lengths
+        let mut bytes = vec![1];
+        for n in [1, 1, 0, 0, 0, 0, 1] {
+            put_u32(&mut bytes, n);
+        }
+        put_f64s(&mut bytes, &[1.0]);
+        put_u32(&mut bytes, 0);
+        let e = read(&bytes).unwrap_err();
+        assert!(e.contains("1 x and 0 y components"), "{e}");
     }
 }

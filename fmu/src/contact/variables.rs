@@ -3,7 +3,8 @@
 //! index in [`VARIABLES`]. The inputs and the model's parameters are rows of the library's parameter
 //! specification (`wheelrail::params::spec`: name, value reference, unit, start, range and, for the
 //! parameters, description); the FMU adds its own variables (outputs, `grid_size`, `mode`, `table_file`,
-//! `minimum_speed`, `warm_start`, the prescribed semi-axes `semi_axis_a`, `semi_axis_b`) and its inputs'
+//! `minimum_speed`, `warm_start`, `tangential`, the prescribed semi-axes `semi_axis_a`, `semi_axis_b`) and its
+//! inputs'
 //! conventions (ranges, nominal values, descriptions).
 //!
 //! **Contact geometry** is an input of every step (docs/model.md §2): the gap curvatures
@@ -110,6 +111,8 @@ pub const CONTACT_SEMI_AXIS_B: usize = 30;
 pub const PEAK_PRESSURE: usize = 31;
 /// `frictional_power` P_f [W] (output).
 pub const FRICTIONAL_POWER: usize = 32;
+/// `tangential`: the tangential solver, 0 FASTSIM, 1 Kalker's exact steady rolling.
+pub const TANGENTIAL: usize = 33;
 
 /// Default of `minimum_speed`: below this |V| the contact is solved at this speed [m/s].
 pub const DEFAULT_MINIMUM_SPEED: f64 = wheelrail::model::DEFAULT_MINIMUM_SPEED;
@@ -324,7 +327,7 @@ const INPUT_VARIABLES: [Variable; 6] = [
 ];
 
 /// The FMU's own variables: the outputs, the parameters of its evaluation and the prescribed semi-axes.
-const OWN_VARIABLES: [Variable; 19] = [
+const OWN_VARIABLES: [Variable; 20] = [
     output(
         "force_longitudinal",
         FORCE_LONGITUDINAL,
@@ -453,6 +456,18 @@ const OWN_VARIABLES: [Variable; 19] = [
         "W",
         "Frictional power P_f = sum of |tau|·|s|·dA over the slipping cells (the heat source, and the work-rate basis of T-gamma wear indices): by the exact solver, or interpolated from the lookup table (P_f/(F_N V) is one of its outputs); 0 for a lifted wheel",
     ),
+    Variable {
+        name: "tangential",
+        vr: TANGENTIAL as u32,
+        causality: Causality::Parameter,
+        variability: Variability::Fixed,
+        kind: Kind::Integer {
+            start: Some(0),
+            min: Some(0),
+            max: Some(1),
+        },
+        description: "Tangential contact solver: 0 FASTSIM with the parabolic pressure, 1 Kalker's exact steady rolling with Hertz's pressure (docs/model.md 6.5, 6.6; slower). A lookup table serves only the method it was built with: otherwise mode 0 solves exactly (one warning) and mode 1 is an error",
+    },
 ];
 
 /// The number of rows of the library's specification that the FMU exposes (parameters and the gap
@@ -696,6 +711,8 @@ mod tests {
         assert_eq!(v.real(PSI_B), p.fluid.psi_b);
         assert_eq!(v.real(H_F_MAX), p.fluid.h_f_max);
         assert_eq!(v.integer(GRID_SIZE) as usize, p.grid.nx);
+        assert_eq!(v.integer(TANGENTIAL), 0);
+        assert_eq!(p.tangential, wheelrail::params::Tangential::Fastsim);
         assert_eq!(v.list()[TABLE_FILE], Value::String(String::new()));
     }
 
