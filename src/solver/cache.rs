@@ -60,12 +60,27 @@ fn roughness_key(r: &Roughness) -> [u64; 6] {
     bits([k_r, z_s_smooth, z_s_span, ratio_smooth, ratio_span, beta])
 }
 
-/// The inputs of a heat model ([`HeatModel::new`]): the grid (semi-axes, cell counts), the surface speeds
-/// and the material's conductivity, density and specific heat.
+/// The inputs of a contact grid ([`ContactGrid::new`]): its semi-axes and cell counts.
 #[derive(Debug, PartialEq)]
-struct HeatKey {
+struct GridKey {
     semi_axes: [u64; 2],
     cells: [usize; 2],
+}
+
+impl GridKey {
+    fn new(grid: &ContactGrid) -> Self {
+        Self {
+            semi_axes: bits([grid.a, grid.b]),
+            cells: [grid.nx, grid.ny],
+        }
+    }
+}
+
+/// The inputs of a heat model ([`HeatModel::new`]): the grid, the surface speeds and the material's
+/// conductivity, density and specific heat.
+#[derive(Debug, PartialEq)]
+struct HeatKey {
+    grid: GridKey,
     speeds: [u64; 2],
     thermal: [u64; 3],
 }
@@ -73,8 +88,7 @@ struct HeatKey {
 impl HeatKey {
     fn new(grid: &ContactGrid, v_wheel: f64, v_rail: f64, material: &Material) -> Self {
         Self {
-            semi_axes: bits([grid.a, grid.b]),
-            cells: [grid.nx, grid.ny],
+            grid: GridKey::new(grid),
             speeds: bits([v_wheel, v_rail]),
             thermal: bits([
                 material.conductivity,
@@ -85,12 +99,11 @@ impl HeatKey {
     }
 }
 
-/// The inputs of a steady-rolling operator ([`SteadyRolling::new`]): the grid (semi-axes, cell counts),
-/// the shear modulus and Poisson's ratio.
+/// The inputs of a steady-rolling operator ([`SteadyRolling::new`]): the grid, the shear modulus and
+/// Poisson's ratio.
 #[derive(Debug, PartialEq)]
 struct SteadyKey {
-    semi_axes: [u64; 2],
-    cells: [usize; 2],
+    grid: GridKey,
     elastic: [u64; 2],
 }
 
@@ -189,8 +202,7 @@ impl SetupCache {
             self,
             |e| &mut e.steady,
             SteadyKey {
-                semi_axes: bits([grid.a, grid.b]),
-                cells: [grid.nx, grid.ny],
+                grid: GridKey::new(grid),
                 elastic: bits([shear_modulus, poisson]),
             },
             || SteadyRolling::new(grid, shear_modulus, poisson).map(Arc::new),

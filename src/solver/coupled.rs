@@ -16,11 +16,14 @@ use super::report::{Limiter, SolverReport, Termination, first_unmet};
 use super::setup::Setup;
 use super::solution::Solution;
 use super::warm::WarmStart;
+use crate::contact::HertzContact;
 use crate::error::{Error, Result, Stage};
 use crate::fluid::{FilmSolution, FilmStart};
 use crate::materials::MaterialState;
 use crate::params::{FrictionLaw, OperatingPoint, Params};
-use crate::tangential::{Creepages, TractionField, fastsim, kalker_coefficients};
+use crate::tangential::{
+    Creepages, KalkerCoefficients, TractionField, fastsim, kalker_coefficients,
+};
 use crate::thermal::HeatSolution;
 
 /// Solves one operating point with the exact (coupled) model from a cold start (T = T0, no fluid); see
@@ -54,6 +57,23 @@ pub(crate) fn solve_cached(
     cache: &SetupCache,
 ) -> Result<Solution> {
     point.validate()?;
+    let (hertz, mat0, kalker, creep) = contact_of(params, point, cache)?;
+    if params.friction.law == FrictionLaw::Polach {
+        return solve_polach(params, point, &hertz, &kalker, creep);
+    }
+    let setup = Setup::new(params, point, hertz, &mat0, &kalker, creep, cache)?;
+    let iterate = Coupled::start(&setup, warm).run()?;
+    Ok(assemble(&setup, iterate))
+}
+
+/// What a solve of `point` is set up from: the Hertz contact at its normal force (the shape from `cache`,
+/// docs/model.md §2), the material at the bulk temperature, Kalker's coefficients of the ellipse (§6.1)
+/// and the creepages.
+fn contact_of(
+    params: &Params,
+    point: &OperatingPoint,
+    cache: &SetupCache,
+) -> Result<(HertzContact, MaterialState, KalkerCoefficients, Creepages)> {
     let hertz = cache
         .shape(&params.geometry, &params.material)?
         .contact(point.normal_force)?;
@@ -64,12 +84,7 @@ pub(crate) fn solve_cached(
         eta: point.creepage_y,
         phi: point.spin,
     };
-    if params.friction.law == FrictionLaw::Polach {
-        return solve_polach(params, point, &hertz, &kalker, creep);
-    }
-    let setup = Setup::new(params, point, hertz, &mat0, &kalker, creep, cache)?;
-    let iterate = Coupled::start(&setup, warm).run()?;
-    Ok(assemble(&setup, iterate))
+    Ok((hertz, mat0, kalker, creep))
 }
 
 /// The state of the outer iteration between two iterations.
@@ -405,14 +420,7 @@ mod tests {
     /// The solve of `params` at `point` with every exact tangential solve limited to `max_sweeps`.
     fn limited(params: &Params, point: &OperatingPoint, max_sweeps: usize) -> Iterate {
         let cache = SetupCache::default();
-        let hertz = super::super::setup::normal_contact(params, point.normal_force).unwrap();
-        let mat0 = params.material.at(params.material.bulk_temperature);
-        let kalker = kalker_coefficients(hertz.a, hertz.b, mat0.poisson).unwrap();
-        let creep = Creepages {
-            xi: point.creepage_x,
-            eta: point.creepage_y,
-            phi: point.spin,
-        };
+        let (hertz, mat0, kalker, creep) = contact_of(params, point, &cache).unwrap();
         let mut setup = Setup::new(params, point, hertz, &mat0, &kalker, creep, &cache).unwrap();
         setup.exact.max_sweeps = max_sweeps;
         Coupled::start(&setup, None).run().unwrap()
