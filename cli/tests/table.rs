@@ -419,8 +419,18 @@ fn verify_passes_a_good_table_and_fails_a_stale_one() {
     let (params, axes) = files("ver", SMALL_GRID, VERIFY_AXES);
     let dir = tmp("ver-table");
     build(&params, &axes, &dir, &[], "2");
+    let csv = tmp("ver-samples.csv");
     let o = wheelrail(
-        &["table", "verify", s(&dir), "--samples", "60", "--json"],
+        &[
+            "table",
+            "verify",
+            s(&dir),
+            "--samples",
+            "60",
+            "--json",
+            "--csv",
+            s(&csv),
+        ],
         None,
     );
     let out = ok(&o);
@@ -431,6 +441,64 @@ fn verify_passes_a_good_table_and_fails_a_stale_one() {
     assert!(p99 <= 0.01 && max <= 0.03, "{r}");
     // not trivially zero: the samples fall between the points
     assert!(r["force"]["mean"].as_f64().unwrap() > 1e-6, "{r}");
+
+    // --csv: one row per compared sample; its columns give the report's force errors, and its exact
+    // columns are what `wheelrail point` gives at the row's operating point and contact
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 60);
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let force_error = |row: &[f64]| {
+        (row[col("table_force_x")] - row[col("exact_force_x")])
+            .hypot(row[col("table_force_y")] - row[col("exact_force_y")])
+            / row[col("normal_force")]
+    };
+    let largest = rows.iter().map(|row| force_error(row)).fold(0.0, f64::max);
+    assert!((largest - max).abs() <= 1e-12 * max, "{largest} {max}");
+    for row in &rows {
+        assert!((force_error(row) - row[col("force_error")]).abs() <= 1e-15);
+    }
+    let row = &rows[7];
+    let arg = |name: &str| format!("{:e}", row[col(name)]);
+    let exact = ok(&wheelrail(
+        &[
+            "point",
+            "--params",
+            s(&params),
+            "--creepage-x",
+            &arg("creepage_x"),
+            "--creepage-y",
+            &arg("creepage_y"),
+            "--spin",
+            &arg("spin"),
+            "--normal-force",
+            &arg("normal_force"),
+            "--speed",
+            &arg("speed"),
+            "--wetness",
+            &arg("wetness"),
+            "--semi-axes",
+            &format!("{},{}", arg("semi_axis_a"), arg("semi_axis_b")),
+            "--json",
+        ],
+        None,
+    ));
+    let exact: serde_json::Value = serde_json::from_str(exact.trim()).unwrap();
+    for (key, name) in [
+        ("force_x", "exact_force_x"),
+        ("max_temperature", "exact_max_temperature"),
+    ] {
+        let v = exact[key].as_f64().unwrap();
+        assert!(
+            (v - row[col(name)]).abs() <= 1e-9 * v.abs().max(1.0),
+            "{key}: {v} vs {}",
+            row[col(name)]
+        );
+    }
     let info = ok(&wheelrail(&["table", "info", s(&dir)], None));
     assert!(
         info.contains("3840 = ξ 6 × η 4 × φ 5 × F_N 2 × V 2 × w 2 × a/b 2 × p_ref 2"),

@@ -180,15 +180,39 @@ impl VerifyReport {
     }
 }
 
+/// One compared sample: the table's and the exact solver's outputs and the errors of [`VerifyReport`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Compared {
+    /// The sample.
+    pub sample: Sample,
+    /// The table's interpolated outputs.
+    pub table: TableOutput,
+    /// The exact solver's outputs.
+    pub exact: TableOutput,
+    /// |ΔF|/F_N, |ΔM_z|/(F_N·c), |Δf|, |ΔT_max| [K], |Δ fluid load fraction|, |ΔP_f|/(F_N·V) (0 without
+    /// a stored frictional power).
+    pub errors: [f64; 6],
+}
+
+/// Names of [`Compared::errors`] (the CSV columns of `table verify --csv`).
+pub const ERROR_NAMES: [&str; 6] = [
+    "force_error",
+    "spin_moment_error",
+    "traction_coefficient_error",
+    "max_temperature_error",
+    "fluid_load_fraction_error",
+    "frictional_power_error",
+];
+
 /// Compares the table with the exact solver (the table's own parameters) at `points`, in parallel;
-/// `on_point` is called after each exact solve.
-pub fn verify(
+/// `on_point` is called after each exact solve. Per point: None where the exact solution did not converge
+/// (after the retry), else the comparison.
+pub fn compare(
     table: &Table,
     points: &[Sample],
     on_point: &(dyn Fn() + Sync),
-) -> Result<VerifyReport> {
-    // per point: None if the exact solution did not converge, else (errors, table converged)
-    let rows: Vec<Option<([f64; 6], bool)>> = points
+) -> Result<Vec<Option<Compared>>> {
+    points
         .par_iter()
         .with_max_len(1)
         .map(|sample| {
@@ -204,43 +228,50 @@ pub fn verify(
             let t = table.evaluate(p, e)?;
             let g = TableOutput::from_solution(&exact)?;
             let f = p.normal_force;
-            Ok(Some((
-                [
-                    (t.force_x - g.force_x).hypot(t.force_y - g.force_y) / f,
-                    (t.spin_moment - g.spin_moment).abs() / (f * e.radius()),
-                    (t.traction_coefficient - g.traction_coefficient).abs(),
-                    (t.max_temperature - g.max_temperature).abs(),
-                    (t.fluid_load_fraction - g.fluid_load_fraction).abs(),
-                    t.frictional_power
-                        .zip(g.frictional_power)
-                        .map_or(0.0, |(a, b)| (a - b).abs() / (f * p.speed.abs())),
-                ],
-                t.converged,
-            )))
+            let errors = [
+                (t.force_x - g.force_x).hypot(t.force_y - g.force_y) / f,
+                (t.spin_moment - g.spin_moment).abs() / (f * e.radius()),
+                (t.traction_coefficient - g.traction_coefficient).abs(),
+                (t.max_temperature - g.max_temperature).abs(),
+                (t.fluid_load_fraction - g.fluid_load_fraction).abs(),
+                t.frictional_power
+                    .zip(g.frictional_power)
+                    .map_or(0.0, |(a, b)| (a - b).abs() / (f * p.speed.abs())),
+            ];
+            Ok(Some(Compared {
+                sample: *sample,
+                table: t,
+                exact: g,
+                errors,
+            }))
         })
-        .collect::<Result<_>>()?;
+        .collect()
+}
+
+/// The statistics of [`compare`]'s results.
+pub fn report(table: &Table, compared: &[Option<Compared>]) -> VerifyReport {
     let mut cols: [Vec<f64>; 6] = Default::default();
     let mut worst: Option<Worst> = None;
     let mut skipped = 0;
     let mut table_unconverged = 0;
-    for (sample, r) in points.iter().zip(&rows) {
-        let Some((e, conv)) = r else {
+    for r in compared {
+        let Some(c) = r else {
             skipped += 1;
             continue;
         };
-        for (c, v) in cols.iter_mut().zip(e) {
-            c.push(*v);
+        for (col, v) in cols.iter_mut().zip(&c.errors) {
+            col.push(*v);
         }
-        table_unconverged += usize::from(!conv);
-        if worst.is_none_or(|w| e[0] > w.force_error) {
+        table_unconverged += usize::from(!c.table.converged);
+        if worst.is_none_or(|w| c.errors[0] > w.force_error) {
             worst = Some(Worst {
-                point: sample.point,
-                semi_axes: [sample.ellipse.a, sample.ellipse.b],
-                force_error: e[0],
+                point: c.sample.point,
+                semi_axes: [c.sample.ellipse.a, c.sample.ellipse.b],
+                force_error: c.errors[0],
             });
         }
     }
-    Ok(VerifyReport {
+    VerifyReport {
         compared: cols[0].len(),
         skipped_unconverged: skipped,
         table_unconverged,
@@ -251,7 +282,16 @@ pub fn verify(
         fluid_load_fraction: Stats::of(&cols[4]),
         frictional_power: table.stores_frictional_power().then(|| Stats::of(&cols[5])),
         worst,
-    })
+    }
+}
+
+/// [`compare`] and [`report`] in one call.
+pub fn verify(
+    table: &Table,
+    points: &[Sample],
+    on_point: &(dyn Fn() + Sync),
+) -> Result<VerifyReport> {
+    Ok(report(table, &compare(table, points, on_point)?))
 }
 
 #[cfg(test)]

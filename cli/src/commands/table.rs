@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use wheelrail::table::file::{ShardRecord, TableFiles};
 use wheelrail::table::verify::{self, TARGET_MAX, TARGET_P99, VerifyReport};
-use wheelrail::table::{self, Axes, DIMENSIONS, Table, TableOutput};
+use wheelrail::table::{self, Axes, DIMENSIONS, Table, TableOutput, coords};
 use wheelrail::{OperatingPoint, Params};
 use wheelrail_cli::slurm::{self, SlurmJob};
 
@@ -116,6 +116,10 @@ struct VerifyArgs {
     /// Print the report as one JSON object.
     #[arg(long)]
     json: bool,
+    /// Also write every compared sample (operating point, contact, table and exact outputs, errors) to
+    /// this CSV file.
+    #[arg(long)]
+    csv: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]
@@ -341,8 +345,12 @@ fn run_verify(a: &VerifyArgs) -> Result<()> {
     let points = verify::sample_points(&t, a.samples, a.seed);
     let pb = progress(points.len(), "exact points");
     let start = Instant::now();
-    let r = verify::verify(&t, &points, &|| pb.inc(1))?;
+    let compared = verify::compare(&t, &points, &|| pb.inc(1))?;
     pb.finish_and_clear();
+    if let Some(path) = &a.csv {
+        write_samples(path, &compared)?;
+    }
+    let r = verify::report(&t, &compared);
     if a.json {
         println!("{}", serde_json::to_string(&r).expect("report serialises"));
     } else {
@@ -360,6 +368,67 @@ fn run_verify(a: &VerifyArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// `table verify --csv`: one row per compared sample (SI units; a, b the contact's semi-axes [m], p_ref the
+/// reference pressure [Pa]).
+fn write_samples(path: &Path, compared: &[Option<verify::Compared>]) -> Result<()> {
+    let outputs = |o: &TableOutput| {
+        [
+            o.force_x,
+            o.force_y,
+            o.spin_moment,
+            o.traction_coefficient,
+            o.max_temperature,
+            o.fluid_load_fraction,
+            o.frictional_power.unwrap_or(f64::NAN),
+        ]
+    };
+    let names = [
+        "force_x",
+        "force_y",
+        "spin_moment",
+        "traction_coefficient",
+        "max_temperature",
+        "fluid_load_fraction",
+        "frictional_power",
+    ];
+    let mut out = String::from(
+        "creepage_x,creepage_y,spin,normal_force,speed,wetness,semi_axis_a,semi_axis_b,semi_axis_ratio,reference_pressure",
+    );
+    for prefix in ["table", "exact"] {
+        for n in names {
+            out.push_str(&format!(",{prefix}_{n}"));
+        }
+    }
+    for n in verify::ERROR_NAMES {
+        out.push_str(&format!(",{n}"));
+    }
+    out.push('\n');
+    for c in compared.iter().flatten() {
+        let (p, e) = (&c.sample.point, &c.sample.ellipse);
+        let f = p.normal_force;
+        let row = [
+            p.creepage_x,
+            p.creepage_y,
+            p.spin,
+            f,
+            p.speed,
+            p.wetness,
+            e.a,
+            e.b,
+            e.a / e.b,
+            coords::reference_pressure(e.a, e.b, f),
+        ]
+        .into_iter()
+        .chain(outputs(&c.table))
+        .chain(outputs(&c.exact))
+        .chain(c.errors);
+        let cells: Vec<String> = row.map(|v| format!("{v:e}")).collect();
+        out.push_str(&cells.join(","));
+        out.push('\n');
+    }
+    std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))
 }
 
 fn print_report(r: &VerifyReport, seconds: f64) {
