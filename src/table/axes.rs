@@ -149,6 +149,10 @@ pub struct Axis {
     /// creepage axes (format version 1) and the other dimensions.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub raw_limit: Option<f64>,
+    /// Normalised creepage axes: the raw scale k_r of knee-blended coordinates (see `coords`), None for
+    /// ξ̂ = k·ξ [-, -, m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub raw_scale: Option<f64>,
 }
 
 impl Axis {
@@ -203,6 +207,8 @@ pub struct AxisSpec {
     pub mirrored: Option<bool>,
     /// Creepage axes: the largest raw |creepage| served.
     pub raw_limit: Option<f64>,
+    /// Creepage axes: the raw scale k_r of knee-blended coordinates (see `coords`) [-, -, m].
+    pub raw_scale: Option<f64>,
 }
 
 /// An axes file (TOML): one optional table per dimension; a missing one takes the default axis.
@@ -370,6 +376,7 @@ impl AxisSpec {
             points,
             mirrored,
             raw_limit,
+            raw_scale: self.raw_scale,
         };
         validate_axis(dim, &axis)?;
         Ok(axis)
@@ -463,6 +470,14 @@ fn validate_axis(dim: usize, axis: &Axis) -> Result<()> {
     }
     if axis.mirrored && p[0] != 0.0 {
         return Err(bad(dim, "a mirrored axis starts at 0"));
+    }
+    if let Some(k) = axis.raw_scale
+        && !(axis.raw_limit.is_some() && k > 0.0 && k.is_finite())
+    {
+        return Err(bad(
+            dim,
+            format!("raw_scale {k} must be finite and > 0, on a creepage axis with a raw_limit"),
+        ));
     }
     if let Some(limit) = axis.raw_limit {
         let (lo, hi) = raw_limit_range(dim);
@@ -669,6 +684,40 @@ mod tests {
             ..Default::default()
         };
         assert!(Axes::from_spec(&spec).is_err());
+        // a raw scale: creepage axes only, finite and > 0
+        for (spec, name) in [
+            (
+                AxesSpec {
+                    speed: Some(AxisSpec {
+                        raw_scale: Some(1.0),
+                        ..default_spec(SPEED)
+                    }),
+                    ..Default::default()
+                },
+                "speed",
+            ),
+            (
+                AxesSpec {
+                    creepage_x: Some(AxisSpec {
+                        raw_scale: Some(-193.0),
+                        ..default_spec(XI)
+                    }),
+                    ..Default::default()
+                },
+                "creepage_x",
+            ),
+        ] {
+            let e = Axes::from_spec(&spec).unwrap_err().to_string();
+            assert!(e.contains(name) && e.contains("raw_scale"), "{e}");
+        }
+        let spec = AxesSpec {
+            spin: Some(AxisSpec {
+                raw_scale: Some(0.4),
+                ..default_spec(PHI)
+            }),
+            ..Default::default()
+        };
+        assert_eq!(Axes::from_spec(&spec).unwrap().0[PHI].raw_scale, Some(0.4));
     }
 
     #[test]

@@ -12,9 +12,11 @@
 //! a stiff contact reaches its raw limit (|ξ| ≤ 0.1, …) long before the end of the axis, and beyond it the
 //! raw creepage would leave what the solver accepts. So each cube solves only the nodes that an in-range
 //! evaluation can touch: along each creepage axis, the nodes up to one beyond the first node at or past
-//! raw limit × k_max, where k_max is the largest creepage scale of the cube and its neighbours along F_N,
-//! a/b and p_ref (every cell an evaluation interpolates in; the creepage scales are monotone in each of
-//! them), which covers the four-node window of the cubic interpolation. The nodes beyond hold the values
+//! the coordinate of the raw limit at k_max (raw limit × k_max, or its knee blend, which also grows with
+//! k), where k_max is the largest creepage scale of the cube and its neighbours along F_N, a/b and p_ref
+//! (every cell an evaluation interpolates in; the creepage scales are monotone in each of them), which
+//! covers the four-node window of the cubic interpolation. With knee-blended axes every contact's raw
+//! limit lies at nearly the same coordinate, and the windows cover nearly the whole axis. The nodes beyond hold the values
 //! of the nearest covered node (flat continuation, which keeps the monotone interpolation's slopes finite)
 //! and are never used by an in-range evaluation (`Table::in_range` checks the raw limits).
 //!
@@ -136,6 +138,8 @@ struct Cube {
     ellipse: Ellipse,
     /// k_x, k_y, k_φ of the cube's contact.
     scales: [f64; 3],
+    /// The table's coordinates.
+    coords: Coordinates,
     /// Solved node range along ξ̂, η̂, φ̂.
     windows: [(usize, usize); 3],
 }
@@ -182,8 +186,13 @@ impl Cube {
         for (d, w) in windows.iter_mut().enumerate() {
             let axis = &axes.0[d];
             let limit = axis.raw_limit.unwrap_or(axis.max());
-            *w = window(&axis.points, limit * k_max[d]);
-            let reach = axis.points[w.0].abs().max(axis.points[w.1].abs()) / scales[d];
+            // the coordinate of the raw limit grows with k (coords::map is increasing in k)
+            *w = window(&axis.points, coords.map(d, limit, k_max[d]).q);
+            let reach = coords.unmap(
+                d,
+                axis.points[w.0].abs().max(axis.points[w.1].abs()),
+                scales[d],
+            );
             if coords.normalised() && reach > SOLVER_RAW_LIMITS[d] {
                 return Err(Error::Table {
                     path: "<build>".into(),
@@ -209,16 +218,18 @@ impl Cube {
             params: p,
             ellipse: e,
             scales,
+            coords: *coords,
             windows,
         })
     }
 
     /// The operating point of creepage node (i, j, l) of the cube.
     fn point(&self, axes: &Axes, [i, j, l]: [usize; 3]) -> OperatingPoint {
+        let c = &self.coords;
         OperatingPoint {
-            creepage_x: axes.0[XI].points[i] / self.scales[0],
-            creepage_y: axes.0[ETA].points[j] / self.scales[1],
-            spin: axes.0[PHI].points[l] / self.scales[2],
+            creepage_x: c.unmap(XI, axes.0[XI].points[i], self.scales[0]),
+            creepage_y: c.unmap(ETA, axes.0[ETA].points[j], self.scales[1]),
+            spin: c.unmap(PHI, axes.0[PHI].points[l], self.scales[2]),
             normal_force: self.node[FORCE],
             speed: self.node[FORCE + 1],
             wetness: self.node[FORCE + 2],
@@ -315,7 +326,7 @@ pub fn build(
             &format!("K/N with 1 <= K <= N (got {}/{})", s.index, s.count),
         ));
     }
-    let coords = Coordinates::new(params, true);
+    let coords = Coordinates::new(params, axes);
     let start = Instant::now();
     let cubes = cube_count(axes);
     let mine: Vec<Cube> = (0..cubes)

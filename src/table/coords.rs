@@ -5,23 +5,110 @@
 //!   with k_x = G·c²·C11/F_N, k_y = G·c²·C22/F_N, k_φ = G·c³·C23/F_N, c = sqrt(a·b), G and ν of the
 //!   material at the bulk temperature (those the solver's FASTSIM uses), C_ij(a/b, ν) from Kalker's table.
 //!   The linear theory's F_x/F_N is then −ξ̂ (F_y/F_N = −(η̂ + φ̂)).
+//! - **Knee-blended creepages** (a creepage axis with a `raw_scale` k_r): the coordinate is ξ̂ below the
+//!   knee of the creep curve and the raw creepage times k_r beyond it,
+//!   q = k_r·ξ + (k − k_r)·ξ·σ(k·ξ/s), σ(z) = 1/sqrt(1 + z²), s = [`KNEE`]
+//!   (q ≈ k·ξ = ξ̂ for |ξ̂| ≪ s, q ≈ k_r·ξ ± (1 − k_r/k)·s for |ξ̂| ≫ s; strictly increasing in ξ and in k).
+//!   Why: below saturation the creep curves of all contacts coincide in ξ̂ (Kalker's linear theory and its
+//!   saturation at the local friction); above it the friction follows the temperature, set by the raw slip
+//!   speed V·ξ, and at equal ξ̂ two contacts whose k differ 2× slide 2× apart in speed (measured: across
+//!   p_ref nodes 0.61 and 1.22 GPa, ξ̂ 8–16, |ΔF|/F_N 0.006–0.011 and |ΔT_max| 25–49 K at equal ξ̂, against
+//!   0.000–0.005 and 1–33 K at equal q). It also gives every contact nearly the same coordinate range up to
+//!   its raw limit (k_r·limit + (1 − k_r/k)·s), where ξ̂ spans 47–3200 × the limit over the geometry range.
 //! - Geometry: a/b and p_ref = p0·(F_ref/F_N)^(1/3), p0 = 3·F_N/(2π·a·b) (Hertz, docs/model.md §2).
 
-use super::axes::{DIMS, REFERENCE_FORCE};
+use super::axes::{Axes, DIMS, REFERENCE_FORCE};
 use crate::error::Result;
 use crate::params::{OperatingPoint, Params};
 use crate::tangential::kalker_coefficients;
 use std::f64::consts::PI;
+
+/// The knee s of knee-blended creepage coordinates: the linear theory's traction coefficient ξ̂ about
+/// where the creep curves saturate (at the local friction, 0.1–0.6; full slip in Carter's theory at
+/// ξ̂ = 3μ) [-]. Measured insensitive: s = 0.5, 1, 2 change the interpolation errors across p_ref by
+/// less than 0.001 in |ΔF|/F_N.
+pub const KNEE: f64 = 1.0;
 
 /// How a table turns an operating point and its contact into coordinates.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Coordinates {
     /// Whether the creepages are normalised (format version 1: raw creepages).
     normalised: bool,
+    /// Per creepage axis, the raw scale k_r of a knee-blended coordinate (None: ξ̂ = k·ξ).
+    raw_scales: [Option<f64>; 3],
     /// Shear modulus G at the bulk temperature [Pa].
     shear_modulus: f64,
     /// Poisson's ratio ν [-].
     poisson: f64,
+}
+
+/// A creepage coordinate q(x, k) and its slopes: ∂q/∂x and k·∂q/∂k (the change with ln k).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mapped {
+    /// The coordinate q.
+    pub q: f64,
+    /// ∂q/∂x [1/unit of x].
+    pub dx: f64,
+    /// k·∂q/∂k.
+    pub dlnk: f64,
+}
+
+/// The creepage coordinate of raw creepage `x` for creepage scale `k` and raw scale `raw_scale` (see the
+/// module documentation): q = k·x without a raw scale, else the knee blend
+/// q = k_r·x + (k − k_r)·x·σ(k·x/s), with ∂q/∂x = k_r + (k − k_r)·σ³ and
+/// k·∂q/∂k = k·x·σ³·(1 + (k_r/k)·z²), z = k·x/s (σ + z·σ' = σ³, σ' = −z·σ³).
+#[inline(always)]
+pub fn map(x: f64, k: f64, raw_scale: Option<f64>) -> Mapped {
+    match raw_scale {
+        None => Mapped {
+            q: k * x,
+            dx: k,
+            dlnk: k * x,
+        },
+        Some(kr) => {
+            let z = k * x / KNEE;
+            let sigma = 1.0 / (1.0 + z * z).sqrt();
+            let s3 = sigma * sigma * sigma;
+            Mapped {
+                q: kr * x + (k - kr) * x * sigma,
+                dx: kr + (k - kr) * s3,
+                dlnk: k * x * s3 * (1.0 + kr / k * z * z),
+            }
+        }
+    }
+}
+
+/// The raw creepage x of coordinate `q` ([`map`] inverted): q is odd and strictly increasing in x, and
+/// |x| lies between |q|/k_r and |q|/k (|q| ≥ min(k, k_r)·|x| and |q| ≤ max(k, k_r)·|x|), so Newton's
+/// method safeguarded by bisection in that bracket converges to the last bits.
+pub fn unmap(q: f64, k: f64, raw_scale: Option<f64>) -> f64 {
+    let Some(kr) = raw_scale else {
+        return q / k;
+    };
+    let (m, sign) = (q.abs(), q.signum());
+    let (mut lo, mut hi) = (m / k.max(kr), m / k.min(kr));
+    let mut x = m / k;
+    for _ in 0..100 {
+        let f = map(x, k, raw_scale);
+        if f.q < m {
+            lo = x;
+        } else if f.q > m {
+            hi = x;
+        } else {
+            break;
+        }
+        let newton = x - (f.q - m) / f.dx;
+        let next = if newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if next == x {
+            break;
+        }
+        x = next;
+    }
+    sign * x
 }
 
 /// The contact ellipse of an evaluation: semi-axes at the point's normal force, and how they change with
@@ -61,14 +148,28 @@ pub fn reference_pressure(a: f64, b: f64, force: f64) -> f64 {
 }
 
 impl Coordinates {
-    /// The coordinates of tables of `params` with normalised (or, format version 1, raw) creepages.
-    pub fn new(params: &Params, normalised: bool) -> Coordinates {
+    /// The coordinates of tables of `params` with `axes` (normalised creepages, or, format version 1, raw;
+    /// knee-blended along creepage axes with a raw scale).
+    pub fn new(params: &Params, axes: &Axes) -> Coordinates {
         let m = params.material.at(params.material.bulk_temperature);
         Coordinates {
-            normalised,
+            normalised: axes.normalised(),
+            raw_scales: std::array::from_fn(|d| axes.0[d].raw_scale),
             shear_modulus: m.shear_modulus,
             poisson: m.poisson,
         }
+    }
+
+    /// The coordinate along creepage axis `d` (0 ξ, 1 η, 2 φ) of raw creepage `x` for scale `k`.
+    #[inline(always)]
+    pub fn map(&self, d: usize, x: f64, k: f64) -> Mapped {
+        map(x, k, self.raw_scales[d])
+    }
+
+    /// The raw creepage of coordinate `q` along creepage axis `d` for scale `k` ([`Coordinates::map`]
+    /// inverted).
+    pub fn unmap(&self, d: usize, q: f64, k: f64) -> f64 {
+        unmap(q, k, self.raw_scales[d])
     }
 
     /// Whether the creepages are normalised.
@@ -89,21 +190,26 @@ impl Coordinates {
     }
 
     /// The table coordinates (ξ̂, η̂, φ̂, F_N, V, w, a/b, p_ref) of `point` with contact `e`, and the creepage
-    /// scales.
-    pub fn of(&self, point: &OperatingPoint, e: &Ellipse) -> Result<([f64; DIMS], [f64; 3])> {
+    /// coordinates with their slopes.
+    pub fn of(&self, point: &OperatingPoint, e: &Ellipse) -> Result<([f64; DIMS], [Mapped; 3])> {
         let k = self.scales(e, point.normal_force)?;
+        let m = [
+            self.map(0, point.creepage_x, k[0]),
+            self.map(1, point.creepage_y, k[1]),
+            self.map(2, point.spin, k[2]),
+        ];
         Ok((
             [
-                k[0] * point.creepage_x,
-                k[1] * point.creepage_y,
-                k[2] * point.spin,
+                m[0].q,
+                m[1].q,
+                m[2].q,
                 point.normal_force,
                 point.speed,
                 point.wetness,
                 e.a / e.b,
                 reference_pressure(e.a, e.b, point.normal_force),
             ],
-            k,
+            m,
         ))
     }
 
@@ -118,9 +224,9 @@ impl Coordinates {
         let k = self.scales(&e, q[3])?;
         Ok((
             OperatingPoint {
-                creepage_x: q[0] / k[0],
-                creepage_y: q[1] / k[1],
-                spin: q[2] / k[2],
+                creepage_x: self.unmap(0, q[0], k[0]),
+                creepage_y: self.unmap(1, q[1], k[1]),
+                spin: self.unmap(2, q[2], k[2]),
                 normal_force: q[3],
                 speed: q[4],
                 wetness: q[5],
@@ -174,7 +280,7 @@ mod tests {
         // the exact solver at a tiny creepage follows Kalker's linear theory (FASTSIM reproduces it):
         // F_x/F_N = −ξ̂, F_y/F_N = −η̂
         let params = Params::default();
-        let c = Coordinates::new(&params, true);
+        let c = Coordinates::new(&params, &Axes::default());
         for (a, b) in [(6e-3, 10e-3), (9e-3, 3e-3)] {
             let mut q = params.clone();
             q.geometry.semi_axes = Some([a, b]);
@@ -202,9 +308,66 @@ mod tests {
     }
 
     #[test]
+    fn knee_blended_coordinates_invert_and_have_their_limits_and_slopes() {
+        let kr = 193.0;
+        for k in [47.0, 193.0, 3200.0] {
+            let mut last = f64::NEG_INFINITY;
+            for n in -400..=400 {
+                // raw creepages from −0.2 to 0.2, denser near 0
+                let x = 0.2 * (f64::from(n) / 400.0).powi(3);
+                let m = map(x, k, Some(kr));
+                // odd, strictly increasing
+                assert!(m.q > last || (n == -400), "k {k} x {x}");
+                last = m.q;
+                assert_eq!(map(-x, k, Some(kr)).q, -m.q);
+                // inverse to the rounding of q times the inverse's condition number q/(x·∂q/∂x) < 5
+                let back = unmap(m.q, k, Some(kr));
+                assert!((back - x).abs() <= 2e-15 * x.abs(), "k {k} x {x}: {back}");
+                // slopes against central differences (in x, and in ln k)
+                let h = 1e-7 * (x.abs() + 1e-6);
+                let fx = (map(x + h, k, Some(kr)).q - map(x - h, k, Some(kr)).q) / (2.0 * h);
+                assert!(
+                    (m.dx - fx).abs() <= 1e-6 * m.dx,
+                    "k {k} x {x}: {} vs {fx}",
+                    m.dx
+                );
+                let g = 1e-6;
+                let fk = (map(x, k * (1.0 + g), Some(kr)).q - map(x, k * (1.0 - g), Some(kr)).q)
+                    / (2.0 * g);
+                assert!(
+                    (m.dlnk - fk).abs() <= 1e-6 * (m.dlnk.abs() + 1e-9),
+                    "k {k} x {x}: {} vs {fk}",
+                    m.dlnk
+                );
+                // increasing in k at fixed x > 0 (the build's coverage windows rely on it)
+                assert!(x <= 0.0 || m.dlnk > 0.0);
+            }
+            // the limits: ξ̂ below the knee, raw creepage × k_r (plus the offset) far beyond it
+            let x = 1e-4 * KNEE / k;
+            assert!((map(x, k, Some(kr)).q / (k * x) - 1.0).abs() < 1e-7);
+            let x = 1e4 * KNEE / k;
+            let far = kr * x + (1.0 - kr / k) * KNEE;
+            assert!(
+                (map(x, k, Some(kr)).q - far).abs() < 1e-6 * far.abs(),
+                "k {k}"
+            );
+        }
+        // without a raw scale: ξ̂ = k·ξ
+        assert_eq!(
+            map(0.01, 193.0, None),
+            Mapped {
+                q: 1.93,
+                dx: 193.0,
+                dlnk: 1.93
+            }
+        );
+        assert_eq!(unmap(1.93, 193.0, None), 1.93 / 193.0);
+    }
+
+    #[test]
     fn scale_exponents_match_finite_differences() {
         let params = Params::default();
-        let c = Coordinates::new(&params, true);
+        let c = Coordinates::new(&params, &Axes::default());
         let h = normal_contact(&params, 80e3).unwrap();
         for e in [Ellipse::HERTZ, 0.0] {
             let at = |f: f64| {

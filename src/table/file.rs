@@ -97,6 +97,9 @@ pub struct AxisRecord {
     /// Normalised creepage axes: the largest raw |creepage| served.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub raw_limit: Option<f64>,
+    /// Knee-blended creepage axes: the raw scale k_r (see `coords`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub raw_scale: Option<f64>,
 }
 
 /// One array file in the sidecar.
@@ -216,6 +219,7 @@ pub fn axis_records(axes: &Axes) -> Vec<AxisRecord> {
             mirrored: a.mirrored,
             points: a.points.clone(),
             raw_limit: a.raw_limit,
+            raw_scale: a.raw_scale,
         })
         .collect()
 }
@@ -251,6 +255,7 @@ fn axes_of(sidecar: &Sidecar, path: &Path) -> Result<Axes> {
             points: r.points.clone(),
             mirrored: r.mirrored,
             raw_limit: r.raw_limit,
+            raw_scale: r.raw_scale,
         });
     }
     if sidecar.format_version == 1 {
@@ -268,6 +273,7 @@ fn axes_of(sidecar: &Sidecar, path: &Path) -> Result<Axes> {
                 points: vec![x],
                 mirrored: false,
                 raw_limit: None,
+                raw_scale: None,
             });
         }
     }

@@ -514,6 +514,7 @@ mod tests {
                 points: points.to_vec(),
                 mirrored,
                 raw_limit: None,
+                raw_scale: None,
             },
             Interpolation::Cubic,
         )
@@ -666,6 +667,7 @@ mod tests {
                     points,
                     mirrored: false,
                     raw_limit: None,
+                    raw_scale: None,
                 },
                 Interpolation::Linear,
             )

@@ -254,7 +254,7 @@ impl Table {
             std::array::from_fn(|d| AxisInterp::new(&axes.0[d], DIMENSIONS[d].interpolation));
         Ok(Table {
             bulk_temperature: files.sidecar.params.material.bulk_temperature,
-            coordinates: Coordinates::new(&files.sidecar.params, axes.normalised()),
+            coordinates: Coordinates::new(&files.sidecar.params, &axes),
             has_power: files.sidecar.format_version > 1,
             all_converged: files.converged.iter().all(|c| *c == 1),
             converged: files.converged,
@@ -532,7 +532,7 @@ impl Table {
                 "finite and > 0 m",
             ));
         }
-        let (signed, k) = self.coordinates.of(point, e)?;
+        let (signed, m) = self.coordinates.of(point, e)?;
         let mut q = signed;
         // bring the point into the stored quadrant ξ ≥ 0 (if mirrored), η ≥ 0
         let mx = q[XI] < 0.0 && self.axes.0[XI].mirrored;
@@ -581,17 +581,17 @@ impl Table {
                     }
                 }
             }
-            // chained to the inputs (ξ, η, φ, F_N, V, w): the creepage scales k, and F_N's part in them
-            // and in p_ref for semi-axes ∝ F_N^e
+            // chained to the inputs (ξ, η, φ, F_N, V, w): ∂q/∂(raw creepage), and F_N's part in the
+            // creepage scales k (through k·∂q/∂k) and in p_ref for semi-axes ∝ F_N^e
             let s = self.coordinates.scale_exponents(e.load_exponent);
             let pe = coords::reference_pressure_exponent(e.load_exponent);
             let mut dg = [[0.0; INPUTS]; OUTPUTS];
             for o in 0..OUTPUTS {
                 for d in 0..3 {
-                    dg[o][d] = dq[o][d] * k[d];
+                    dg[o][d] = dq[o][d] * m[d].dx;
                 }
                 dg[o][FORCE] = dq[o][FORCE]
-                    + ((0..3).map(|d| dq[o][d] * signed[d] * s[d]).sum::<f64>()
+                    + ((0..3).map(|d| dq[o][d] * m[d].dlnk * s[d]).sum::<f64>()
                         + dq[o][PRESSURE] * signed[PRESSURE] * pe)
                         / f;
                 dg[o][FORCE + 1] = dq[o][FORCE + 1];
@@ -1038,15 +1038,31 @@ mod tests {
         ]
     }
 
+    /// [`tiny_axes`] with knee-blended creepage coordinates (raw scales near the default contact's k).
+    fn blended(mut axes: Axes) -> Axes {
+        for (d, k) in [200.0, 170.0, 0.4].into_iter().enumerate() {
+            axes.0[d].raw_scale = Some(k);
+        }
+        axes.validate().unwrap();
+        axes
+    }
+
     #[test]
     fn interpolant_reproduces_symmetric_multilinear_functions_and_their_derivatives() {
         let params = coarse_params();
-        let t = synthetic(&tiny_axes(), &params, &symmetric_multilinear);
+        for axes in [tiny_axes(), blended(tiny_axes())] {
+            reproduces_symmetric_multilinear(&synthetic(&axes, &params, &symmetric_multilinear));
+        }
+    }
+
+    /// The interpolant of [`symmetric_multilinear`] and its Jacobian (through the table's coordinates,
+    /// plain or knee-blended) at 500 random points.
+    fn reproduces_symmetric_multilinear(t: &Table) {
         let mut rng = verify::SplitMix64::new(7);
         for n in 0..500 {
             let c = random_coordinates(&mut rng);
             let exponent = if n % 2 == 0 { 0.0 } else { Ellipse::HERTZ };
-            let (pt, e) = at(&t, &c, exponent);
+            let (pt, e) = at(t, &c, exponent);
             let (o, j) = t.evaluate_with_jacobian(&pt, &e).unwrap();
             let want = symmetric_multilinear(&c);
             let f = c[FORCE];
@@ -1486,9 +1502,15 @@ mod tests {
     /// solve (beyond its coverage window) hold the nearest solved node's values.
     #[test]
     fn built_nodes_are_the_exact_solutions_of_their_contacts() {
+        for axes in [tiny_axes(), blended(tiny_axes())] {
+            built_nodes_are_exact(&axes);
+        }
+    }
+
+    /// A table over `axes` holds the exact solutions at 20 random nodes, and evaluates to them there.
+    fn built_nodes_are_exact(axes: &Axes) {
         let params = coarse_params();
-        let axes = tiny_axes();
-        let files = build::build(&params, &axes, None, &|| ()).unwrap();
+        let files = build::build(&params, axes, None, &|| ()).unwrap();
         let t = Table::from_files(files.clone(), None).unwrap();
         let mut rng = verify::SplitMix64::new(17);
         for _ in 0..20 {

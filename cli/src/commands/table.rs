@@ -501,7 +501,7 @@ fn info(dir: &Path) -> Result<()> {
     );
     for (a, d) in f.axes.0.iter().zip(DIMENSIONS.iter()) {
         println!(
-            "  {:<4} {:<13} {:>3} points, {:>10} .. {:<10} [{}] {:?}{}",
+            "  {:<4} {:<13} {:>3} points, {:>10} .. {:<10} [{}] {:?}{}{}{}",
             d.symbol,
             d.name,
             a.points.len(),
@@ -509,7 +509,11 @@ fn info(dir: &Path) -> Result<()> {
             a.max(),
             d.unit,
             d.interpolation,
-            if a.mirrored { ", mirrored" } else { "" }
+            if a.mirrored { ", mirrored" } else { "" },
+            a.raw_limit
+                .map_or(String::new(), |l| format!(", raw limit {l}")),
+            a.raw_scale
+                .map_or(String::new(), |k| format!(", knee-blended (raw scale {k})"))
         );
     }
     let bytes: u64 = s
