@@ -2,12 +2,14 @@
 //! cells), each iteration sets a new longitudinal creepage (alternating between two values, so every step
 //! solves) and calls `fmi2DoStep`, dry and wet, with warm starts (the default) and without; and in table
 //! mode (issue 5 target ≤ 2 µs), with a small table built for a 6 × 6 grid first (the lookup cost does not
-//! depend on the grid). Also a step followed by the six columns of the Jacobian (one
+//! depend on the grid), also with a new contact ellipse every step (random geometry). Also a step followed by the six columns of the Jacobian (one
 //! `fmi2GetDirectionalDerivative` call per input, as a master asks), by table and exact. Run with
 //! `cargo bench -p wheelrail-fmu`.
 
 use WheelRailFriction::contact::model::{INPUTS, OUTPUTS};
-use WheelRailFriction::contact::variables::{CREEPAGE_LONGITUDINAL, EVALUATION_MODE};
+use WheelRailFriction::contact::variables::{
+    CREEPAGE_LONGITUDINAL, EVALUATION_MODE, SEMI_AXIS_A, SEMI_AXIS_B,
+};
 use WheelRailFriction::exports::*;
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::ffi::CString;
@@ -126,9 +128,44 @@ fn do_step_table(c: &mut Criterion) {
             fmu,
             [0.003, 0.0031],
         );
+        bench_random_geometry(c, fmu);
         fmi2FreeInstance(fmu);
     }
     let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Benchmarks a table step at a new contact every step, as an MBS run feeds it: each iteration sets the
+/// semi-axes (inputs `semi_axis_a`, `semi_axis_b`) of one of 1024 random ellipses inside the small
+/// table's geometry axes (a/b 0.5–0.6, p_ref 0.70–0.85 GPa at the default 100 kN) and calls `fmi2DoStep`.
+///
+/// # Safety
+/// `fmu` is a live, initialised instance in table-only mode with the small table.
+unsafe fn bench_random_geometry(c: &mut Criterion, fmu: *mut std::ffi::c_void) {
+    let mut rng = wheelrail::table::verify::SplitMix64::new(13);
+    let ellipses: Vec<[f64; 2]> = (0..1024)
+        .map(|_| {
+            let ratio = 0.5 + 0.1 * rng.uniform();
+            let p_ref = 0.70e9 + 0.15e9 * rng.uniform();
+            wheelrail::table::coords::semi_axes(ratio, p_ref, 100e3)
+        })
+        .collect();
+    let set = |e: &[f64; 2]| unsafe {
+        let vr = [SEMI_AXIS_A as u32, SEMI_AXIS_B as u32];
+        fmi2SetReal(fmu, vr.as_ptr(), 2, e.as_ptr())
+    };
+    // every contact is inside the table (table-only mode fails a step outside it)
+    for e in &ellipses {
+        assert_eq!(set(e), 0);
+        assert_eq!(unsafe { fmi2DoStep(fmu, 0.0, 1e-3, 1) }, 0);
+    }
+    let mut k = 0usize;
+    c.bench_function("fmi2DoStep/table, dry, xi 0.3 %, random geometry", |b| {
+        b.iter(|| {
+            k = (k + 1) % ellipses.len();
+            set(&ellipses[k]);
+            black_box(unsafe { fmi2DoStep(fmu, 0.0, 1e-3, 1) })
+        })
+    });
 }
 
 criterion_group! {
