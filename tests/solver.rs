@@ -161,6 +161,68 @@ fn grid_convergence_below_one_percent() {
     }
 }
 
+/// `grid.accuracy` keeps its promise on the hardest cases of the measured convergence (docs/model.md §6.4):
+/// the flange-root shape a/b = 5 under spin 3 /m, dry (the largest error on 8 × 8), and the default
+/// contact wet with ξ = η = 0.2 % and 3 /m: at the cells chosen for 1 % and 0.5 % the forces are within the
+/// target of the 120 × 120 solution, and the coarser grid the table rejects misses 0.5 % on the first.
+#[test]
+fn an_accuracy_target_chooses_a_grid_that_meets_it() {
+    let flange = |p: &mut Params| p.geometry.semi_axes = Some([0.017601, 0.0035202]);
+    type Case = (fn(&mut Params), OperatingPoint);
+    let cases: [Case; 2] = [
+        (
+            flange,
+            OperatingPoint {
+                spin: 3.0,
+                ..dry(0.0, 30.0)
+            },
+        ),
+        (
+            |_| {},
+            OperatingPoint {
+                creepage_x: 0.002,
+                creepage_y: 0.002,
+                spin: 3.0,
+                wetness: 1.0,
+                ..dry(0.0, 30.0)
+            },
+        ),
+    ];
+    let force_error = |a: &wheelrail::Solution, b: &wheelrail::Solution| {
+        (a.global.force_x - b.global.force_x).hypot(a.global.force_y - b.global.force_y)
+            / b.global.normal_force
+    };
+    for (k, (shape, point)) in cases.iter().enumerate() {
+        let mut reference = Params::default();
+        shape(&mut reference);
+        reference.grid.nx = 120;
+        reference.grid.ny = 120;
+        let fine = solve(&reference, point).unwrap();
+        assert!(fine.report.converged);
+        for accuracy in [0.01, 0.005] {
+            let mut p = Params::default();
+            shape(&mut p);
+            p.grid.accuracy = accuracy;
+            let [n, _] = p.grid.cells();
+            let s = solve(&p, point).unwrap();
+            let e = force_error(&s, &fine);
+            eprintln!("case {k}: accuracy {accuracy} -> {n} x {n}: |dF|/F_N {e:.2e}");
+            assert!(
+                s.report.converged && e <= accuracy,
+                "case {k}, {n} x {n}: {e}"
+            );
+        }
+        if k == 0 {
+            let mut p = Params::default();
+            shape(&mut p);
+            p.grid.nx = 8;
+            p.grid.ny = 8;
+            let e = force_error(&solve(&p, point).unwrap(), &fine);
+            assert!(e > 0.005, "8 x 8: {e}");
+        }
+    }
+}
+
 /// Relative difference of the global results that matter to a user (forces, f, temperature, fluid share).
 fn global_difference(a: &wheelrail::Solution, b: &wheelrail::Solution) -> f64 {
     let fa = &a.global;

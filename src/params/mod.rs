@@ -342,6 +342,10 @@ pub struct GridParams {
     pub nx: usize,
     /// Cells along y over [−b, b].
     pub ny: usize,
+    /// Target discretisation error |ΔF|/F_N [-]: > 0 chooses the cells ([`GridParams::cells`]); 0 keeps
+    /// `nx` × `ny` (written only when set, so that earlier parameter sets keep their fingerprints).
+    #[serde(skip_serializing_if = "is_default")]
+    pub accuracy: f64,
 }
 
 impl Default for GridParams {
@@ -349,7 +353,42 @@ impl Default for GridParams {
         Self {
             nx: Param::GridNx.default_value() as usize,
             ny: Param::GridNy.default_value() as usize,
+            accuracy: Param::GridAccuracy.default_value(),
         }
+    }
+}
+
+/// The measured grid convergence of the full model (docs/model.md §6.4): per n × n grid, the largest
+/// |ΔF|/F_N against 120 × 120 over the sixteen cases of the full-model table there (default contact and
+/// the flange-root shape a/b = 5; ξ = 1 %, spin 1 and 3 /m, ξ = η = 0.2 % with 3 /m; dry and wet; 100 kN,
+/// 30 m/s).
+pub const GRID_CONVERGENCE: [(usize, f64); 8] = [
+    (6, 4.0e-2),
+    (8, 1.65e-2),
+    (10, 5.3e-3),
+    (12, 3.2e-3),
+    (16, 2.1e-3),
+    (20, 1.35e-3),
+    (30, 1.22e-3),
+    (60, 3.3e-4),
+];
+
+/// The grid of the convergence reference, used for accuracies finer than any measured grid reached.
+pub const GRID_REFERENCE: usize = 120;
+
+impl GridParams {
+    /// The cells [nx, ny]: `nx`, `ny` without an accuracy target; with one, n × n for the smallest
+    /// measured n whose worst force error ([`GRID_CONVERGENCE`]) is within it (the reference grid 120 ×
+    /// 120 below the finest measured error).
+    pub fn cells(&self) -> [usize; 2] {
+        if self.accuracy <= 0.0 {
+            return [self.nx, self.ny];
+        }
+        let n = GRID_CONVERGENCE
+            .iter()
+            .find(|(_, e)| *e <= self.accuracy)
+            .map_or(GRID_REFERENCE, |(n, _)| *n);
+        [n, n]
     }
 }
 
@@ -519,6 +558,37 @@ impl OperatingPoint {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_accuracy_target_chooses_the_smallest_measured_grid_meeting_it() {
+        let mut g = GridParams {
+            nx: 17,
+            ny: 23,
+            ..GridParams::default()
+        };
+        assert_eq!(g.cells(), [17, 23]);
+        for (accuracy, n) in [
+            (0.1, 6),
+            (0.04, 6),
+            (0.01, 10),
+            (0.005, 12),
+            (0.002, 20),
+            (1.3e-3, 30),
+            (1e-3, 60),
+            (1e-4, GRID_REFERENCE),
+        ] {
+            g.accuracy = accuracy;
+            assert_eq!(g.cells(), [n, n], "{accuracy}");
+        }
+        // the measured errors fall with n
+        assert!(
+            GRID_CONVERGENCE
+                .windows(2)
+                .all(|w| w[0].0 < w[1].0 && w[0].1 > w[1].1)
+        );
+        // not written when unset: default parameter sets keep their text and fingerprints
+        assert!(!Params::default().to_toml_string().contains("accuracy"));
+    }
 
     #[test]
     fn defaults_are_valid_and_round_trip_through_toml() {

@@ -617,6 +617,11 @@ spec_table! {
         cli: None, fmu: None,
         "Grid cells along y over [-b, b] (docs/model.md §2)",
     }
+    GridAccuracy: grid.accuracy {
+        toml: "grid.accuracy", unit: One, range: Range::closed(0.0, 0.1), default: 0.0,
+        cli: Some("grid-accuracy"), fmu: fmu("grid_accuracy", 34),
+        "Target discretisation error |dF|/F_N of the forces: > 0 chooses n x n cells from the measured grid convergence (docs/model.md §6.4) instead of the set grid; 0 keeps the set grid",
+    }
     Tolerance: solver.tolerance {
         toml: "solver.tolerance", unit: One, range: Range::closed(1e-14, 1e-1), default: 1e-6,
         cli: None, fmu: None,

@@ -107,7 +107,8 @@ impl<'a> Setup<'a> {
         creep: Creepages,
         cache: &SetupCache,
     ) -> Result<Self> {
-        let grid = ContactGrid::for_contact(&hertz, params.grid.nx, params.grid.ny);
+        let [nx, ny] = params.grid.cells();
+        let grid = ContactGrid::for_contact(&hertz, nx, ny);
         let flex = Flexibilities::new(hertz.a, hertz.b, mat0.shear_modulus, kalker);
         let pressure = match params.pressure_shape() {
             Pressure::Hertz => HertzContact::hertz_pressure,

@@ -384,7 +384,7 @@ pub fn warn_unconverged(report: &SolverReport) {
 }
 
 /// The model's methods as JSON keys: `friction_law`, `tangential` ("fastsim" or "exact") and `pressure`
-/// (the pressure used: "parabolic" or "hertz").
+/// (the pressure used: "parabolic" or "hertz"), `grid_cells` ([nx, ny] of the contact grid).
 pub fn methods_json(params: &Params) -> serde_json::Map<String, serde_json::Value> {
     let mut m = serde_json::Map::new();
     m.insert(
@@ -396,6 +396,8 @@ pub fn methods_json(params: &Params) -> serde_json::Map<String, serde_json::Valu
         "pressure".into(),
         params.pressure_shape().to_string().into(),
     );
+    // the cells [nx, ny] of the contact grid (chosen by `grid.accuracy` when set)
+    m.insert("grid_cells".into(), serde_json::json!(params.grid.cells()));
     m
 }
 
@@ -437,7 +439,7 @@ mod tests {
         [0.5, 1.5, 0.9, 1.01]
             .map(|f| s.default * f)
             .into_iter()
-            .chain([0.5, -0.5, 1.0])
+            .chain([0.5, -0.5, 1.0, 0.05])
             .find(|&x| x != s.default && s.range.contains(x))
             .unwrap()
     }
