@@ -463,8 +463,11 @@ one warning; values outside the model's range (e.g. |&xi;| &gt; 1.9) make <code>
 message naming the variable.</li>
 <li><b>Evaluation mode:</b> <code>mode</code> 0 (auto) uses the lookup table where usable and otherwise the
 exact solver, logging one warning; 1 (table only) fails at initialization without a usable table; 2 uses the
-exact solver. This build has no lookup table yet, so <code>evaluation_mode</code> is 2. The exact solver's
-grid is <code>grid_size</code>&sup2; cells; <code>converged</code> = false (with a warning and
+exact solver (<code>evaluation_mode</code> reports which: 1 table, 2 exact). The FMU bundles the default table
+(default parameters, the default running-surface contact; axes and ranges in
+<code>resources/table/table.json</code>); <code>table_file</code> selects another. The exact solver's grid is
+<code>grid_size</code>&sup2; cells, or, with <code>grid_accuracy</code> &gt; 0, the cells whose measured force
+error |&Delta;F|/F<sub>N</sub> is within it (0.01: 10 &times; 10); <code>converged</code> = false (with a warning and
 <code>fmi2Warning</code>) flags a coupled iteration that missed its tolerance.</li>
 <li><b>Directional derivatives</b> (<code>fmi2GetDirectionalDerivative</code>, Real outputs with respect to Real
 inputs): one forward difference along the seed, step 10<sup>&minus;4</sup>&middot;max(|u|, nominal) per input,
