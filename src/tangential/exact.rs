@@ -29,6 +29,14 @@
 //! exactly given the others ([`local_problem`], with M_kk = (A(0) − A(x_k − x_land))/h_x). Sweeping from
 //! the leading edge instead, or moving every traction behind k, diverges on long thin strips (measured:
 //! a/b = 0.05). Convergence: the largest traction change of a sweep over the largest traction.
+//!
+//! **Cost of a sweep.** A change must reach its own strip's cells at once (the next cell's problem reads
+//! them) but the other strips only before their turn: it acts directly on its own strip (O(nx)), and each
+//! strip, when done, passes its row of increment changes to every other strip as a product in Fourier
+//! space over x (the influence is translation invariant; circular convolution of length ≥ 2·nx is exact
+//! for nx targets and nx + 1 sources). Each strip takes what it was sent when its turn comes, and all at
+//! the end of a sweep: the iterates are those of updating every cell after every change, at
+//! O(ny²·n_fft + N·log n_fft) per sweep instead of O(N²) (N cells; on 30 × 30 about a third of the time).
 
 use super::fastsim::{Creepages, TractionField};
 use crate::contact::{ContactGrid, Strip};
