@@ -291,8 +291,9 @@ impl Anderson {
 /// "−" forward, "+" inverse (unscaled).
 #[derive(Debug, Clone)]
 struct Fft {
-    /// e^(−2πi·k/n) for k < n/2, as [re, im].
-    twiddles: Vec<[f64; 2]>,
+    /// Per stage of half-length h = 1, 2, 4, …, n/2, the twiddles e^(−iπ·k/h), k < h (n − 1 in all):
+    /// real parts, imaginary parts of the forward transform, and the latter negated (inverse).
+    twiddles: [Vec<f64>; 3],
     /// The bit-reversal permutation of 0..n.
     reversed: Vec<usize>,
 }
@@ -302,13 +303,18 @@ impl Fft {
     fn new(n: usize) -> Self {
         debug_assert!(n.is_power_of_two() && n >= 2);
         let bits = n.trailing_zeros();
+        let angles: Vec<f64> = (0..bits)
+            .flat_map(|stage| {
+                let half = 1_usize << stage;
+                (0..half).map(move |k| -PI * k as f64 / half as f64)
+            })
+            .collect();
         Self {
-            twiddles: (0..n / 2)
-                .map(|k| {
-                    let angle = -2.0 * PI * k as f64 / n as f64;
-                    [angle.cos(), angle.sin()]
-                })
-                .collect(),
+            twiddles: [
+                angles.iter().map(|a| a.cos()).collect(),
+                angles.iter().map(|a| a.sin()).collect(),
+                angles.iter().map(|a| -a.sin()).collect(),
+            ],
             reversed: (0..n)
                 .map(|m| m.reverse_bits() >> (usize::BITS - bits))
                 .collect(),
@@ -323,27 +329,37 @@ impl Fft {
     /// Transforms (`re`, `im`) in place, forward or `inverse` (unscaled).
     fn transform(&self, re: &mut [f64], im: &mut [f64], inverse: bool) {
         let n = self.len();
+        let (re, im) = (&mut re[..n], &mut im[..n]);
         for (m, &r) in self.reversed.iter().enumerate() {
             if m < r {
                 re.swap(m, r);
                 im.swap(m, r);
             }
         }
-        let sign = if inverse { -1.0 } else { 1.0 };
-        let mut half = 1;
+        // the first stage, twiddle 1
+        for (r, i) in re.chunks_exact_mut(2).zip(im.chunks_exact_mut(2)) {
+            (r[0], r[1]) = (r[0] + r[1], r[0] - r[1]);
+            (i[0], i[1]) = (i[0] + i[1], i[0] - i[1]);
+        }
+        let mut half = 2;
         while half < n {
-            let step = n / (2 * half);
-            for start in (0..n).step_by(2 * half) {
+            let (wr, wi) = (
+                &self.twiddles[0][half - 1..2 * half - 1],
+                &self.twiddles[if inverse { 2 } else { 1 }][half - 1..2 * half - 1],
+            );
+            for (r, i) in re
+                .chunks_exact_mut(2 * half)
+                .zip(im.chunks_exact_mut(2 * half))
+            {
+                let (ra, rb) = r.split_at_mut(half);
+                let (ia, ib) = i.split_at_mut(half);
                 for k in 0..half {
-                    let [wr, wi] = self.twiddles[k * step];
-                    let wi = sign * wi;
-                    let (a, b) = (start + k, start + k + half);
-                    let tr = re[b] * wr - im[b] * wi;
-                    let ti = re[b] * wi + im[b] * wr;
-                    re[b] = re[a] - tr;
-                    im[b] = im[a] - ti;
-                    re[a] += tr;
-                    im[a] += ti;
+                    let tr = rb[k] * wr[k] - ib[k] * wi[k];
+                    let ti = rb[k] * wi[k] + ib[k] * wr[k];
+                    rb[k] = ra[k] - tr;
+                    ib[k] = ia[k] - ti;
+                    ra[k] += tr;
+                    ia[k] += ti;
                 }
             }
             half *= 2;
