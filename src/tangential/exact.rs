@@ -159,6 +159,7 @@ fn rectangle(c: [[f64; 3]; 4], shear_modulus: f64) -> [f64; 3] {
 /// three steps; J.J. Moré and D.C. Sorensen, SIAM J. Sci. Stat. Comput. 4 (1983) 553–572, the same
 /// equation for a trust-region step), monotone from the lower end of its bracket
 /// [max(0, |r|/g − d_max), |r|/g − d_min].
+#[inline(always)]
 fn local_problem(r: [f64; 2], d: [f64; 2], g: f64) -> ([f64; 2], [f64; 2], bool) {
     let stick = [-r[0] / d[0], -r[1] / d[1]];
     // squares, not hypot: tractions are far from overflow and hypot dominated the solve's time
@@ -215,6 +216,7 @@ impl Anderson {
     /// Records the sweep from `before` to `p` (with slips `s`) and replaces `p`, `s` by the extrapolated
     /// iterate (left as they are while there is no difference to combine, or if the least-squares problem
     /// is singular).
+    #[inline(always)]
     fn extrapolate(&mut self, before: Vec<[f64; 2]>, p: &mut [[f64; 2]], s: &mut [Vec<f64>; 2]) {
         let f: Vec<[f64; 2]> = p
             .iter()
@@ -327,6 +329,7 @@ impl Fft {
     }
 
     /// Transforms (`re`, `im`) in place, forward or `inverse` (unscaled).
+    #[inline(always)]
     fn transform(&self, re: &mut [f64], im: &mut [f64], inverse: bool) {
         let n = self.len();
         let (re, im) = (&mut re[..n], &mut im[..n]);
@@ -400,14 +403,20 @@ fn accumulate<const FMA: bool>(spectrum: &[f64], z: [&[f64]; 4], w: [&mut [f64];
     }
 }
 
-/// [`accumulate`] compiled for AVX2 and FMA.
+/// [`SteadyRolling::iterate`] compiled for AVX2 and FMA.
 ///
 /// # Safety
 /// The CPU must support AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn accumulate_fma(spectrum: &[f64], z: [&[f64]; 4], w: [&mut [f64]; 2]) {
-    accumulate::<true>(spectrum, z, w)
+unsafe fn iterate_fma(
+    op: &SteadyRolling,
+    grid: &ContactGrid,
+    bound: &[f64],
+    settings: ExactSettings,
+    state: (&mut [[f64; 2]], &mut [Vec<f64>; 2], &mut [bool]),
+) -> (usize, f64) {
+    op.iterate::<true>(grid, bound, settings, state)
 }
 
 /// The slips of the rows not yet brought up to date, as spectra (see [`SteadyRolling::solve`]): per strip
@@ -525,6 +534,7 @@ impl SteadyRolling {
 
     /// Adds to the s/V of `strip`'s cells the change (A(x − x_in) − A(x − x_out))·change/h_x of an
     /// increment `change` [Pa] entering at column `enter` of the strip's row and leaving at `leave`.
+    #[inline(always)]
     fn move_in_row(
         &self,
         grid: &ContactGrid,
@@ -552,7 +562,8 @@ impl SteadyRolling {
 
     /// Accumulates in `pending` the slips that the row of increments `increments` (at m = column + 1,
     /// [Pa]) of strip `source` causes in every other strip (and in its own if `own`).
-    fn spread(
+    #[inline(always)]
+    fn spread<const FMA: bool>(
         &self,
         grid: &ContactGrid,
         source: usize,
@@ -583,19 +594,13 @@ impl SteadyRolling {
             let spectrum = &self.spectra[r * 4 * n..(r + 1) * 4 * n];
             let (wr, wi) = pending.spectra[2 * t * n..2 * (t + 1) * n].split_at_mut(n);
             let z = [&zr[..], &zi[..], &cr[..], &ci[..]];
-            #[cfg(target_arch = "x86_64")]
-            if self.fma {
-                // SAFETY: `fma` is set only where the CPU has AVX2 and FMA (`SteadyRolling::new`)
-                unsafe { accumulate_fma(spectrum, z, [wr, wi]) };
-                pending.dirty[t] = true;
-                continue;
-            }
-            accumulate::<false>(spectrum, z, [wr, wi]);
+            accumulate::<FMA>(spectrum, z, [wr, wi]);
             pending.dirty[t] = true;
         }
     }
 
     /// Brings the s/V of strip `t`'s cells up to date with what `pending` holds for it.
+    #[inline(always)]
     fn flush(&self, grid: &ContactGrid, t: usize, pending: &mut Pending, s: &mut [Vec<f64>; 2]) {
         if !pending.dirty[t] {
             return;
@@ -697,6 +702,37 @@ impl SteadyRolling {
             s[0][at] = creep.xi - creep.phi * c.y;
             s[1][at] = creep.eta + creep.phi * c.x;
         }
+        let mut slipping = vec![false; n];
+        let (sweeps, residual) = {
+            let state = (&mut p[..], &mut s, &mut slipping[..]);
+            #[cfg(target_arch = "x86_64")]
+            if self.fma {
+                // SAFETY: `fma` is set only where the CPU has AVX2 and FMA (`SteadyRolling::new`)
+                unsafe { iterate_fma(self, grid, bound, settings, state) }
+            } else {
+                self.iterate::<false>(grid, bound, settings, state)
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            self.iterate::<false>(grid, bound, settings, state)
+        };
+        Ok(ExactTraction {
+            field: self.field(grid, &p, &s, &slipping, speed),
+            sweeps,
+            converged: residual <= settings.tolerance,
+            residual,
+        })
+    }
+    /// The sweeps of [`SteadyRolling::solve`] from the tractions `p` [Pa], slips per V `s` and slip flags
+    /// of `state` (left at the last sweep's), with fused multiply–adds if `FMA`: (sweeps, residual).
+    #[inline(always)]
+    fn iterate<const FMA: bool>(
+        &self,
+        grid: &ContactGrid,
+        bound: &[f64],
+        settings: ExactSettings,
+        state: (&mut [[f64; 2]], &mut [Vec<f64>; 2], &mut [bool]),
+    ) -> (usize, f64) {
+        let (p, s, slipping) = state;
         let length = self.fft.len();
         let mut pending = Pending {
             spectra: vec![0.0; 2 * length * grid.strips.len()],
@@ -717,23 +753,22 @@ impl SteadyRolling {
                 // the sum of the increments, p of the trailing cell, leaves behind it
                 let released = (Self::released(grid, strip) + 1) as usize;
                 increments[released] = [-upstream[0], -upstream[1]];
-                self.spread(grid, t, &increments, true, &mut pending);
+                self.spread::<FMA>(grid, t, &increments, true, &mut pending);
             }
             for t in 0..grid.strips.len() {
-                self.flush(grid, t, &mut pending, &mut s);
+                self.flush(grid, t, &mut pending, s);
             }
         }
-        let mut slipping = vec![false; n];
         let mut sweeps = 0;
         let mut residual = f64::INFINITY;
         let mut anderson = Anderson::new(settings.anderson_depth);
         while sweeps < settings.max_sweeps {
             sweeps += 1;
-            let before = p.clone();
+            let before = p.to_vec();
             let mut largest = 0.0_f64;
             for (t, strip) in grid.strips.iter().enumerate() {
                 // what the strips done since this one's last turn sent it
-                self.flush(grid, t, &mut pending, &mut s);
+                self.flush(grid, t, &mut pending, s);
                 let released = Self::released(grid, strip);
                 let cells = strip.cells.clone();
                 increments.fill([0.0; 2]);
@@ -755,7 +790,7 @@ impl SteadyRolling {
                     let change = [pk[0] - p[k][0], pk[1] - p[k][1]];
                     if change != [0.0; 2] {
                         largest = largest.max(change[0] * change[0] + change[1] * change[1]);
-                        self.move_in_row(grid, strip, c.i as isize, column, change, &mut s);
+                        self.move_in_row(grid, strip, c.i as isize, column, change, s);
                         let (enter, leave) = (c.i + 1, (column + 1) as usize);
                         increments[enter] = [
                             increments[enter][0] + change[0],
@@ -773,11 +808,11 @@ impl SteadyRolling {
                     }
                 }
                 if changed {
-                    self.spread(grid, t, &increments, false, &mut pending);
+                    self.spread::<FMA>(grid, t, &increments, false, &mut pending);
                 }
             }
             for t in 0..grid.strips.len() {
-                self.flush(grid, t, &mut pending, &mut s);
+                self.flush(grid, t, &mut pending, s);
             }
             // largest squared change and squared traction
             let scale = p
@@ -792,16 +827,12 @@ impl SteadyRolling {
                 break;
             }
             if settings.anderson_depth > 0 {
-                anderson.extrapolate(before, &mut p, &mut s);
+                anderson.extrapolate(before, p, s);
             }
         }
-        Ok(ExactTraction {
-            field: self.field(grid, &p, &s, &slipping, speed),
-            sweeps,
-            converged: residual <= settings.tolerance,
-            residual,
-        })
+        (sweeps, residual)
     }
+
     /// The traction field of tractions `p` [Pa] and slips per V `s` at rolling speed `speed` [m/s].
     fn field(
         &self,
