@@ -36,7 +36,7 @@
 //! space over x (the influence is translation invariant; circular convolution of length ≥ 2·nx is exact
 //! for nx targets and nx + 1 sources). Each strip takes what it was sent when its turn comes, and all at
 //! the end of a sweep: the iterates are those of updating every cell after every change, at
-//! O(ny²·n_fft + N·log n_fft) per sweep instead of O(N²) (N cells; on 30 × 30 about a third of the time).
+//! O(ny²·n_fft + N·nx) per sweep instead of O(N²) (N cells; on 30 × 30 about a quarter of the time).
 
 use super::fastsim::{Creepages, TractionField};
 use crate::contact::{ContactGrid, Strip};
@@ -1207,25 +1207,28 @@ mod tests {
     /// The Gauss–Seidel sweeps with the other strips' influence passed on in Fourier space solve the
     /// discrete problem: the contact conditions hold, checked by direct summation
     /// ([`contact_violation`]), within the tolerance ([`ExactSettings::tolerance`]; measured 0.1–0.6 of it) for longitudinal, lateral and spin creepage, full slip, a/b =
-    /// 0.2 and 5, a bound varying along and across the contact (as the model's local τ_l), and a warm
-    /// start; a solve stopped at a loose tolerance fails the same check.
+    /// 0.2 and 5, a bound varying along and across the contact (as the model's local τ_l), a warm start,
+    /// and grids of 33 × 7 and 1 × 5 cells (transform lengths 128 and 2); a solve stopped at a loose tolerance fails the same check.
     #[test]
     fn solution_satisfies_the_contact_conditions_by_direct_summation() {
         let tolerance = ExactSettings::default().tolerance;
-        let cases: [(f64, f64, f64, f64, &str); 8] = [
-            // a/b, ξ, η, φ [1/m], bound
-            (A / B, 0.001, 0.0, 0.0, "hertz"),
-            (A / B, 0.0, 0.002, 0.0, "hertz"),
-            (A / B, 0.0, 0.0, 0.6, "hertz"),
-            (A / B, 0.0008, -0.0004, 0.4, "varying"),
-            (A / B, 0.01, 0.003, 0.0, "hertz"),
-            (0.2, 0.0005, 0.0005, 0.2, "hertz"),
-            (5.0, 0.0005, 0.0005, 0.2, "varying"),
-            (A / B, 0.0015, 0.0, 0.2, "warm"),
+        let cases: [(f64, f64, f64, f64, &str, usize, usize); 10] = [
+            // a/b, ξ, η, φ [1/m], bound, grid nx × ny
+            (A / B, 0.001, 0.0, 0.0, "hertz", 20, 16),
+            (A / B, 0.0, 0.002, 0.0, "hertz", 20, 16),
+            (A / B, 0.0, 0.0, 0.6, "hertz", 20, 16),
+            (A / B, 0.0008, -0.0004, 0.4, "varying", 20, 16),
+            (A / B, 0.01, 0.003, 0.0, "hertz", 20, 16),
+            (0.2, 0.0005, 0.0005, 0.2, "hertz", 20, 16),
+            (5.0, 0.0005, 0.0005, 0.2, "varying", 20, 16),
+            (A / B, 0.0015, 0.0, 0.2, "warm", 20, 16),
+            // transforms of length 128 for 33 columns, and of the shortest length
+            (A / B, 0.0008, -0.0004, 0.4, "hertz", 33, 7),
+            (A / B, 0.0008, -0.0004, 0.4, "hertz", 1, 5),
         ];
-        for (ratio, xi, eta, phi, kind) in cases {
+        for (ratio, xi, eta, phi, kind, nx, ny) in cases {
             let c = (A * B).sqrt();
-            let grid = ContactGrid::new(c * ratio.sqrt(), c / ratio.sqrt(), 20, 16);
+            let grid = ContactGrid::new(c * ratio.sqrt(), c / ratio.sqrt(), nx, ny);
             let op = SteadyRolling::new(&grid, G, NU).unwrap();
             let mut bound = hertz_bound(&grid, 0.3);
             if kind == "varying" {
@@ -1256,7 +1259,7 @@ mod tests {
             let (violation, slip_error) = contact_violation(&grid, creep, &bound, &r);
             let slipping = r.field.slipping.iter().filter(|&&s| s).count();
             eprintln!(
-                "a/b {ratio:.2} xi {xi} eta {eta} phi {phi} {kind}: {slipping}/{} slipping, {} sweeps, \
+                "a/b {ratio:.2} xi {xi} eta {eta} phi {phi} {kind} {nx} x {ny}: {slipping}/{} slipping, {} sweeps, \
                  violation {violation:.2e}, slip error {slip_error:.2e}",
                 grid.len(),
                 r.sweeps
