@@ -59,7 +59,7 @@ pub struct SteadyRolling {
     /// β = (Â_xx − Â_yy)/2 + i·Â_xy of the row's kernels (over the column offsets, circularly), divided by
     /// the transform length: runs of α_re, α_im, β_re, β_im, one value per frequency ([`accumulate`]).
     spectra: Vec<f64>,
-    /// Whether the CPU has AVX2 and FMA (the fused kernel of [`accumulate`]).
+    /// Whether the CPU has AVX2 and FMA (the sweeps are then compiled for them, [`iterate_fma`]).
     fma: bool,
 }
 
