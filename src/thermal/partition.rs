@@ -10,6 +10,7 @@
 use super::convolution::{OffsetKernel, StripLayout, StripSolver};
 use super::influence::{InfluenceTable, MovingHalfSpace};
 use super::krylov::{GmresSettings, gmres};
+use super::lattice::interpolated_table;
 use crate::contact::ContactGrid;
 use crate::error::{Error, Result, Stage};
 use crate::params::Material;
@@ -75,6 +76,33 @@ impl HeatModel {
     /// Tabulates the moving-source influence coefficients of both bodies (docs/model.md §7) and factorises the
     /// strip-diagonal part of G_w + G_r.
     pub fn new(grid: &ContactGrid, v_wheel: f64, v_rail: f64, material: &Material) -> Result<Self> {
+        Self::with_tables(grid, v_wheel, v_rail, material, InfluenceTable::for_grid)
+    }
+
+    /// As [`HeatModel::new`] with the influence coefficients interpolated in the lattice of unit-cell
+    /// tables ([`interpolated_table`], docs/model.md §7.3): each within
+    /// [`super::lattice::INTERPOLATION_ERROR`] of the coefficient scale of the direct ones, and cheap
+    /// whenever the process has made the lattice nodes around this grid's cell Péclet numbers and aspect
+    /// before (the coupled solver's heat model).
+    pub fn interpolated(
+        grid: &ContactGrid,
+        v_wheel: f64,
+        v_rail: f64,
+        material: &Material,
+    ) -> Result<Self> {
+        Self::with_tables(grid, v_wheel, v_rail, material, |body, grid| {
+            interpolated_table(body, material, grid.nx, grid.ny, grid.hx, grid.hy)
+        })
+    }
+
+    /// The heat model with the influence tables `table` makes of each body on `grid`.
+    fn with_tables(
+        grid: &ContactGrid,
+        v_wheel: f64,
+        v_rail: f64,
+        material: &Material,
+        table: impl Fn(&MovingHalfSpace, &ContactGrid) -> Result<InfluenceTable>,
+    ) -> Result<Self> {
         if grid.is_empty() {
             return Err(Error::Numerical {
                 stage: Stage::ThermalModel,
@@ -82,12 +110,11 @@ impl HeatModel {
             });
         }
         let layout = StripLayout::new(grid)?;
-        let wheel_table =
-            InfluenceTable::for_grid(&MovingHalfSpace::new(v_wheel, material)?, grid)?;
+        let wheel_table = table(&MovingHalfSpace::new(v_wheel, material)?, grid)?;
         let rail_table = if v_rail == v_wheel {
             wheel_table.clone()
         } else {
-            InfluenceTable::for_grid(&MovingHalfSpace::new(v_rail, material)?, grid)?
+            table(&MovingHalfSpace::new(v_rail, material)?, grid)?
         };
         let sum = OffsetKernel::sum(&layout, &[&wheel_table, &rail_table])?;
         let strips = StripSolver::new(&sum, &layout)?;
