@@ -1,5 +1,5 @@
 //! Influence tables of any cell size and surface speed by interpolation in a dimensionless form
-//! (docs/model.md §7.3).
+//! (docs/model.md §7.2).
 //!
 //! Scaling the offsets of the moving-source kernel by the cell length h_x (ζ = h_x·ζ', η = h_x·η') gives
 //! G(Δi, Δj; h_x, h_y, p) = h_x·G(Δi, Δj; 1, α, Pe) with the cell Péclet number Pe = p·h_x = v·h_x/(2κ)

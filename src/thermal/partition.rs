@@ -80,7 +80,7 @@ impl HeatModel {
     }
 
     /// As [`HeatModel::new`] with the influence coefficients interpolated in the lattice of unit-cell
-    /// tables ([`interpolated_table`], docs/model.md §7.3): each within
+    /// tables ([`interpolated_table`], docs/model.md §7.2): each within
     /// [`super::lattice::INTERPOLATION_ERROR`] of the coefficient scale of the direct ones, and cheap
     /// whenever the process has made the lattice nodes around this grid's cell Péclet numbers and aspect
     /// before (the coupled solver's heat model).
