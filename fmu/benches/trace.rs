@@ -15,7 +15,13 @@
 //! Criterion then times whole passes over the steps a mode evaluates (criterion group `mbs_trace`,
 //! throughput = steps per pass) for the modes whose pass takes at most [`CRITERION_PASS_BUDGET`]: a
 //! mode whose steps fall back to the exact solver (milliseconds each) is timed by its single pass only.
-//! Run with `cargo bench -p wheelrail-fmu --bench trace`.
+//! The times are also split by the row's wetness (dry: w = 0, wet: w > 0), and set beside Polach's on the
+//! same trace in the same run (issue 14): the library's Polach law (`friction.law = "polach"`, docs/model.md
+//! §12.2, which the FMU does not offer) through the same evaluation policy, exact mode, with each row's
+//! geometry, timed per step on this thread; every mode's mean and p99 as a ratio to Polach's mean.
+//! Run with `cargo bench -p wheelrail-fmu --bench trace`; environment variable `WHEELRAIL_TRACE_MODES`
+//! (names separated by commas, e.g. `exact 9x9,exact 15x15`) restricts the modes measured besides the
+//! reference mode 2 on the default grid (always run: the force errors are against it).
 
 use WheelRailFriction::contact::variables::{
     DEFAULT_GRID_SIZE, EVALUATION_MODE, FORCE_LATERAL, FORCE_LONGITUDINAL, VARIABLES,
@@ -54,6 +60,8 @@ struct Trace {
     rows: Vec<Vec<f64>>,
     /// The column of `normal_force` in `rows`.
     normal_force: usize,
+    /// The column of `wetness` in `rows` (None: the trace is dry).
+    wetness: Option<usize>,
     /// The communication step [s].
     step: f64,
 }
@@ -86,6 +94,7 @@ impl Trace {
             .iter()
             .position(|n| n == "normal_force")
             .expect("a normal_force column");
+        let wetness = names.iter().position(|n| n == "wetness");
         let (mut times, mut rows) = (Vec::new(), Vec::new());
         for (i, line) in lines.enumerate() {
             let values: Vec<f64> = line
@@ -120,6 +129,7 @@ impl Trace {
             times,
             rows,
             normal_force,
+            wetness,
             step,
         }
     }
@@ -151,7 +161,12 @@ const EXACT: Mode = Mode {
 /// Exact mode on coarser grids (issue 14: the cost of a warm exact step against its force error; the
 /// error is against mode 2 on the default grid, which is within about 1e-3·F_N of the grid-converged
 /// solution on this trace).
-const EXACT_COARSE: [Mode; 3] = [
+const EXACT_COARSE: [Mode; 4] = [
+    Mode {
+        code: 2,
+        name: "exact 7x7",
+        grid: 7,
+    },
     Mode {
         code: 2,
         name: "exact 9x9",
@@ -178,6 +193,82 @@ struct Outcome {
     path: i32,
     /// Time of setting the inputs and `fmi2DoStep` [ns].
     nanos: f64,
+}
+
+impl Trace {
+    /// Whether row `k` is wet (w > 0).
+    fn wet(&self, k: usize) -> bool {
+        self.wetness.is_some_and(|c| self.rows[k][c] > 0.0)
+    }
+
+    /// The library's inputs of row `k`: the operating point and the contact geometry (the FMU's input
+    /// names mapped as the FMU maps them; columns the trace lacks keep the FMU's start values).
+    fn library_inputs(&self, k: usize) -> (wheelrail::OperatingPoint, wheelrail::params::Geometry) {
+        let value = |name: &str| {
+            self.names
+                .iter()
+                .position(|n| n == name)
+                .map(|c| self.rows[k][c])
+        };
+        let mut point = wheelrail::OperatingPoint::default();
+        let defaults = wheelrail::Params::default().geometry;
+        for (name, field) in [
+            ("creepage_longitudinal", &mut point.creepage_x),
+            ("creepage_lateral", &mut point.creepage_y),
+            ("spin_creepage", &mut point.spin),
+            ("normal_force", &mut point.normal_force),
+            ("rolling_speed", &mut point.speed),
+            ("wetness", &mut point.wetness),
+        ] {
+            if let Some(v) = value(name) {
+                *field = v;
+            }
+        }
+        let geometry = wheelrail::params::Geometry::of_inputs(
+            value("curvature_longitudinal").unwrap_or(defaults.curvature_x),
+            value("curvature_lateral").unwrap_or(defaults.curvature_y),
+            [
+                value("semi_axis_a").unwrap_or(0.0),
+                value("semi_axis_b").unwrap_or(0.0),
+            ],
+        );
+        (point, geometry)
+    }
+}
+
+/// The time per step [ns] of the library's Polach law over the whole trace (see the module
+/// documentation): one pass, then more while they add up to less than [`TIMING_BUDGET`]; per step the
+/// time and whether the row is wet.
+fn polach_times(trace: &Trace) -> Vec<(bool, f64)> {
+    use wheelrail::model::{Evaluator, Mode as Route, Policy};
+    let mut params = wheelrail::Params::default();
+    params.friction.law = wheelrail::params::FrictionLaw::Polach;
+    let evaluator = Evaluator::new(
+        wheelrail::Model::new(params).expect("valid parameters"),
+        Route::ExactOnly,
+        None,
+        Policy::default(),
+    )
+    .expect("an evaluator");
+    let inputs: Vec<_> = (0..trace.rows.len())
+        .map(|k| trace.library_inputs(k))
+        .collect();
+    let mut times = Vec::new();
+    let mut spent = 0.0;
+    while times.is_empty() || (spent < TIMING_BUDGET.as_secs_f64() && times.len() < MAX_TIMING_PASSES * inputs.len()) {
+        let mut warm = None;
+        for (k, (point, geometry)) in inputs.iter().enumerate() {
+            let start = Instant::now();
+            let e = evaluator
+                .evaluate_at(point, geometry, None, &mut warm)
+                .unwrap_or_else(|e| panic!("Polach at row {k}: {e}"));
+            let time = start.elapsed();
+            std::hint::black_box(e);
+            spent += time.as_secs_f64();
+            times.push((trace.wet(k), time.as_nanos() as f64));
+        }
+    }
+    times
 }
 
 /// The bench's instances: the bundled table, default grid, warm start. An instance that has evaluated by
@@ -340,8 +431,12 @@ fn measure(
         .copied()
         .filter(|&k| first[k].is_some())
         .collect();
-    let mut times: Vec<(i32, f64)> = first.iter().flatten().map(|o| (o.path, o.nanos)).collect();
-    let mut spent: f64 = times.iter().map(|t| t.1).sum::<f64>() * 1e-9;
+    let mut times: Vec<(i32, bool, f64)> = all
+        .iter()
+        .zip(&first)
+        .filter_map(|(&k, o)| o.map(|o| (o.path, trace.wet(k), o.nanos)))
+        .collect();
+    let mut spent: f64 = times.iter().map(|t| t.2).sum::<f64>() * 1e-9;
     let mut passes = 1;
     while !evaluated.is_empty() && spent < TIMING_BUDGET.as_secs_f64() && passes < MAX_TIMING_PASSES
     {
@@ -349,17 +444,21 @@ fn measure(
             .iter()
             .zip(timed_pass(instances, mode, trace, &evaluated))
         {
-            times.push((first[k].map_or(0, |o| o.path), time.as_nanos() as f64));
+            times.push((
+                first[k].map_or(0, |o| o.path),
+                trace.wet(k),
+                time.as_nanos() as f64,
+            ));
             spent += time.as_secs_f64();
         }
         passes += 1;
     }
     let by = |p: i32| first.iter().flatten().filter(|o| o.path == p).count();
-    let time_of = |p: Option<i32>| -> Vec<f64> {
+    let time_of = |p: Option<i32>, wet: Option<bool>| -> Vec<f64> {
         times
             .iter()
-            .filter(|t| p.is_none_or(|p| t.0 == p))
-            .map(|t| t.1)
+            .filter(|t| p.is_none_or(|p| t.0 == p) && wet.is_none_or(|w| t.1 == w))
+            .map(|t| t.2)
             .collect()
     };
     let mut report = json!({
@@ -372,9 +471,11 @@ fn measure(
         "by_table": by(1),
         "by_exact": by(2),
         "timing_passes": passes,
-        "time_per_step_ns": stats(&time_of(None)),
-        "time_per_step_ns_by_table": stats(&time_of(Some(1))),
-        "time_per_step_ns_by_exact": stats(&time_of(Some(2))),
+        "time_per_step_ns": stats(&time_of(None, None)),
+        "time_per_step_ns_by_table": stats(&time_of(Some(1), None)),
+        "time_per_step_ns_by_exact": stats(&time_of(Some(2), None)),
+        "time_per_step_ns_dry": stats(&time_of(None, Some(false))),
+        "time_per_step_ns_wet": stats(&time_of(None, Some(true))),
     });
     if let Some(r) = reference {
         report["error_vs_exact"] = json!({
@@ -420,16 +521,51 @@ fn mbs_trace(c: &mut Criterion) {
         trace.step,
         trace.names.join(", ")
     );
+    let polach: Vec<(bool, f64)> = polach_times(&trace);
+    let polach_of = |wet: Option<bool>| -> Vec<f64> {
+        polach
+            .iter()
+            .filter(|t| wet.is_none_or(|w| t.0 == w))
+            .map(|t| t.1)
+            .collect()
+    };
+    let polach_mean = Stats::of(&polach_of(None)).mean;
+    let wanted = std::env::var("WHEELRAIL_TRACE_MODES").ok();
+    let selected = |mode: &Mode| {
+        wanted
+            .as_deref()
+            .is_none_or(|w| w.split(',').any(|n| n.trim() == mode.name))
+    };
     let (reference, _, exact) = measure(&instances, EXACT, &trace, None);
     let mut modes = vec![exact];
     let mut criterion_runs = Vec::new();
-    for mode in [TABLE_ONLY, AUTO].into_iter().chain(EXACT_COARSE) {
+    for mode in [TABLE_ONLY, AUTO]
+        .into_iter()
+        .chain(EXACT_COARSE)
+        .filter(selected)
+    {
         let (outcomes, evaluated, report) = measure(&instances, mode, &trace, Some(&reference));
         let first_pass: f64 = outcomes.iter().flatten().map(|o| o.nanos * 1e-9).sum();
         let by_exact = outcomes.iter().flatten().filter(|o| o.path == 2).count();
         criterion_runs.push((mode, evaluated, first_pass, by_exact));
         modes.push(report);
     }
+    for m in modes.iter_mut() {
+        let ratio = |key: &str, stat: &str| m[key][stat].as_f64().map(|t| t / polach_mean);
+        m["ratio_to_polach"] = json!({
+            "mean": ratio("time_per_step_ns", "mean"),
+            "p99": ratio("time_per_step_ns", "p99"),
+            "dry_mean": ratio("time_per_step_ns_dry", "mean"),
+            "dry_p99": ratio("time_per_step_ns_dry", "p99"),
+            "wet_mean": ratio("time_per_step_ns_wet", "mean"),
+            "wet_p99": ratio("time_per_step_ns_wet", "p99"),
+        });
+    }
+    println!(
+        "  Polach (library, exact mode, same trace): time per step mean {:.3} µs, p99 {:.3} µs",
+        polach_mean * 1e-3,
+        Stats::of(&polach_of(None)).p99 * 1e-3
+    );
     for m in &modes {
         let t = &m["time_per_step_ns"];
         println!(
@@ -442,6 +578,16 @@ fn mbs_trace(c: &mut Criterion) {
             m["refused"],
             t["mean"].as_f64().unwrap_or(f64::NAN) * 1e-3,
             t["p99"].as_f64().unwrap_or(f64::NAN) * 1e-3,
+        );
+        let (d, w) = (&m["time_per_step_ns_dry"], &m["time_per_step_ns_wet"]);
+        let us = |v: &Value| v.as_f64().unwrap_or(f64::NAN) * 1e-3;
+        println!(
+            "    dry mean {:.3} µs, p99 {:.3} µs; wet mean {:.3} µs, p99 {:.3} µs; mean {:.1}x Polach's",
+            us(&d["mean"]),
+            us(&d["p99"]),
+            us(&w["mean"]),
+            us(&w["p99"]),
+            m["ratio_to_polach"]["mean"].as_f64().unwrap_or(f64::NAN),
         );
         if let Some(e) = m.get("error_vs_exact") {
             println!(
@@ -499,6 +645,11 @@ fn mbs_trace(c: &mut Criterion) {
         "timer_overhead_ns": timer_overhead(),
         "load_average_start": load_start,
         "load_average_end": load_average(),
+        "polach": {
+            "time_per_step_ns": stats(&polach_of(None)),
+            "time_per_step_ns_dry": stats(&polach_of(Some(false))),
+            "time_per_step_ns_wet": stats(&polach_of(Some(true))),
+        },
         "modes": modes,
         "criterion": criterion,
     });
