@@ -4,7 +4,7 @@
 //! inputs and `fmi2DoStep` (timed together, as a master pays them), then `force_longitudinal`,
 //! `force_lateral` and `evaluation_mode` (not timed). The bundled table (fmu/resources/table) in
 //! `mode` 1 (table only), 0 (auto) and 2 (exact only, the reference), default grid, warm start on; and
-//! mode 2 on the grids 9 × 9, 15 × 15 and 20 × 20 (the exact step's cost against its force error).
+//! mode 2 on the grids 7 × 7, 9 × 9, 15 × 15 and 20 × 20 (the exact step's cost against its force error).
 //!
 //! Per mode: how many steps the FMU evaluated by table and by the exact solver, and how many it refused
 //! (`fmi2Error`; mode 1 refuses a geometry other than its table's: the pass goes on in a fresh
@@ -255,7 +255,9 @@ fn polach_times(trace: &Trace) -> Vec<(bool, f64)> {
         .collect();
     let mut times = Vec::new();
     let mut spent = 0.0;
-    while times.is_empty() || (spent < TIMING_BUDGET.as_secs_f64() && times.len() < MAX_TIMING_PASSES * inputs.len()) {
+    while times.is_empty()
+        || (spent < TIMING_BUDGET.as_secs_f64() && times.len() < MAX_TIMING_PASSES * inputs.len())
+    {
         let mut warm = None;
         for (k, (point, geometry)) in inputs.iter().enumerate() {
             let start = Instant::now();

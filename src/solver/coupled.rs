@@ -511,7 +511,10 @@ mod tests {
                     let tight = solve_cached(&tight_params, &point, None, &cache).unwrap();
                     for (what, other) in [("cold", &cold), ("converged", &tight)] {
                         let d = difference(&s, other);
-                        assert!(d <= p.solver.tolerance, "w {wetness}, step {k}, {what}: {d:.2e}");
+                        assert!(
+                            d <= p.solver.tolerance,
+                            "w {wetness}, step {k}, {what}: {d:.2e}"
+                        );
                     }
                 }
                 warm = s.warm_start();

@@ -137,7 +137,9 @@ pub fn interpolated_table(
         }
     }
     let h = hx.min(hy);
-    let scale = h / (1.0 + body.decay_rate() * h).sqrt() / (2.0 * std::f64::consts::PI)
+    let scale = h
+        / (1.0 + body.decay_rate() * h).sqrt()
+        / (2.0 * std::f64::consts::PI)
         / material.conductivity;
     InfluenceTable::from_values(nx, ny, values, node_error + INTERPOLATION_ERROR * scale)
 }
@@ -155,7 +157,8 @@ mod tests {
         let direct = InfluenceTable::new(&body, n, n, hx, alpha * hx).unwrap();
         let interpolated = interpolated_table(&body, &m, n, n, hx, alpha * hx).unwrap();
         let h = hx.min(alpha * hx);
-        let scale = h / (1.0 + peclet / hx * h).sqrt() / (2.0 * std::f64::consts::PI * m.conductivity);
+        let scale =
+            h / (1.0 + peclet / hx * h).sqrt() / (2.0 * std::f64::consts::PI * m.conductivity);
         direct
             .values()
             .iter()
@@ -180,7 +183,10 @@ mod tests {
         for n in [9, 30] {
             for (pe, alpha) in cases {
                 let e = relative_error(n, pe, alpha);
-                assert!(e <= INTERPOLATION_ERROR, "{n}x{n}, Pe {pe}, alpha {alpha}: {e:.2e}");
+                assert!(
+                    e <= INTERPOLATION_ERROR,
+                    "{n}x{n}, Pe {pe}, alpha {alpha}: {e:.2e}"
+                );
             }
         }
     }
