@@ -512,6 +512,46 @@ mod tests {
         )
     }
 
+    /// The solver's heat model with interpolated influence coefficients (docs/model.md §7.2, each within
+    /// 2e-6 of the coefficient scale) gives the partition and the temperature of the direct tables to a
+    /// few 1e-6 of their largest values, at speeds from near standstill to 100 m/s and on coarse and
+    /// default grids.
+    #[test]
+    fn interpolated_heat_model_matches_the_direct_one() {
+        for n in [7, 30] {
+            let grid = hertz_grid(n);
+            for (v, xi) in [(0.1, 0.02), (25.0, 0.004), (100.0, -0.1)] {
+                let (vw, vr) = (v * (1.0 + 0.5 * xi), v * (1.0 - 0.5 * xi));
+                let direct = HeatModel::new(&grid, vw, vr, &steel()).unwrap();
+                let interpolated = HeatModel::interpolated(&grid, vw, vr, &steel()).unwrap();
+                let q = smooth_flux(&grid);
+                let (a, b) = (direct.solve(&q).unwrap(), interpolated.solve(&q).unwrap());
+                let (qmax, tmax) = (
+                    max_abs(a.q_wheel.clone()),
+                    max_abs(a.temperature_rise.clone()),
+                );
+                let dq = max_abs(a.q_wheel.iter().zip(&b.q_wheel).map(|(x, y)| x - y));
+                let dt = max_abs(
+                    a.temperature_rise
+                        .iter()
+                        .zip(&b.temperature_rise)
+                        .map(|(x, y)| x - y),
+                );
+                assert!(
+                    dq <= 1e-5 * qmax,
+                    "{n}x{n}, V = {v}: q_w off by {:.2e}",
+                    dq / qmax
+                );
+                assert!(
+                    dt <= 1e-5 * tmax,
+                    "{n}x{n}, V = {v}: ΔT off by {:.2e}",
+                    dt / tmax
+                );
+                assert!(b.converged && interpolated.quadrature_error() > direct.quadrature_error());
+            }
+        }
+    }
+
     #[test]
     fn fast_partition_matches_the_dense_reference() {
         // Default Hertz grid (30 × 30, docs/model.md §2), v_w,r = V(1 ± ξ/2) (docs/model.md §1).
