@@ -76,10 +76,11 @@ $(TRACE): tools/mbs_trace.py
 	$(PYTHON) tools/mbs_trace.py --out $@
 
 # criterion benchmarks in one run: Polach, constant-mu FASTSIM, exact dry and wet, 50-point sweeps, grid
-# scaling, one exact MBS step per grid (9, 15, 20, 30 cells per axis; dry and wet; cold, warm, warm with the
-# set-up reused), table lookup, FMU fmi2DoStep (exact warm/cold, table), memory per FMU instance and the MBS
-# trace through the FMU in modes table only, auto and exact, and exact on 9 x 9, 15 x 15 and 20 x 20 grids
-# (time per step, force errors; a few minutes); then
+# scaling, one exact MBS step per grid (7, 9, 15, 20, 30 cells per axis; dry and wet; cold, warm, warm with
+# the set-up reused), table lookup, FMU fmi2DoStep (exact warm/cold, table), memory per FMU instance and the
+# MBS trace through the FMU in modes table only, auto and exact, and exact on 7 x 7, 9 x 9, 15 x 15 and
+# 20 x 20 grids (time per step, dry and wet, mean and p99, beside Polach's on the same trace; force errors;
+# a few minutes); then
 # the report with every time's ratio to Polach (target/bench/report.md)
 bench: $(TRACE)
 	$(CARGO) bench --workspace

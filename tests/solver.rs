@@ -426,7 +426,9 @@ fn the_reported_heat_residual_is_that_of_the_returned_heat_partition() {
         let s = solve(&p, &pt).unwrap();
         let f = s.fields.as_ref().unwrap();
         let (v_w, v_r) = surface_speeds(&pt);
-        let heat = HeatModel::new(&f.grid, v_w, v_r, &p.material).unwrap();
+        // the solver's heat model: influence coefficients interpolated in the unit-cell lattice
+        // (docs/model.md §7.2)
+        let heat = HeatModel::interpolated(&f.grid, v_w, v_r, &p.material).unwrap();
         let q_rail: Vec<f64> = f
             .heat_flux
             .iter()

@@ -67,14 +67,36 @@ def trace_section(t, found):
              f"and fmi2DoStep, timer overhead ≈ {t['timer_overhead_ns']:.0f} ns included; load average "
              f"{t['load_average_start']} at the start, {t['load_average_end']} at the end):", "",
              "| mode | evaluated | by table | by exact | refused | passes | time/step mean | p99 | max "
-             "| criterion mean/step |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+             "| dry mean / p99 | wet mean / p99 | mean, p99 / Polach's mean | CPU dry mean / p99 "
+             "| CPU wet mean / p99 | CPU mean, p99 / Polach's | criterion mean/step |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+    polach = t.get("polach")
+
+    def split(s):
+        return f"{human(s['mean'])} / {human(s['p99'])}" if s and s["count"] else "–"
+
+    def ratios(m, key="ratio_to_polach"):
+        r = m.get(key) or {}
+        if r.get("mean") is None:
+            return "n/a"
+        return f"{r['mean']:,.0f}×, {r['p99']:,.0f}×" if r["mean"] >= 100 else f"{r['mean']:.3g}×, {r['p99']:.3g}×"
     for m in t["modes"]:
         s = m["time_per_step_ns"]
         key = f"mbs_trace/{m['name']}"
         crit = human(found[key]) if ran.get(key) == "run" and key in found else ran.get(key, "–")
         lines.append(f"| {m['mode']} {m['name']} | {m['evaluated']:,} | {m['by_table']:,} | {m['by_exact']:,} | "
                      f"{m['refused']:,} | {m['timing_passes']} | {human(s['mean'])} | {human(s['p99'])} | "
-                     f"{human(s['max'])} | {crit} |")
+                     f"{human(s['max'])} | {split(m['time_per_step_ns_dry'])} | {split(m['time_per_step_ns_wet'])} | "
+                     f"{ratios(m)} | {split(m.get('cpu_time_per_step_ns_dry'))} | "
+                     f"{split(m.get('cpu_time_per_step_ns_wet'))} | {ratios(m, 'cpu_ratio_to_polach')} | {crit} |")
+    if polach:
+        p = polach["time_per_step_ns"]
+        lines += ["", f"Polach on the same trace in the same run (the library's Polach law through the evaluation "
+                      f"policy, exact mode, each row's geometry; the FMU does not offer the law): time/step mean "
+                      f"{human(p['mean'])}, p99 {human(p['p99'])}; dry {split(polach['time_per_step_ns_dry'])}, "
+                      f"wet {split(polach['time_per_step_ns_wet'])}; CPU time mean "
+                      f"{split(polach.get('cpu_time_per_step_ns'))}. CPU time: the thread's (CLOCK_THREAD_CPUTIME_ID), "
+                      f"without the waits of a loaded machine."]
     lines += ["", "Force error against mode 2 (exact) at every evaluated step, relative to F_N (mean / p99 / max):",
               "", "| mode | steps | count | abs(ΔF_x)/F_N | abs(ΔF_y)/F_N | abs(ΔF)/F_N |", "|---|---|---:|---|---|---|"]
     for m in t["modes"]:

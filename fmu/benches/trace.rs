@@ -4,7 +4,7 @@
 //! inputs and `fmi2DoStep` (timed together, as a master pays them), then `force_longitudinal`,
 //! `force_lateral` and `evaluation_mode` (not timed). The bundled table (fmu/resources/table) in
 //! `mode` 1 (table only), 0 (auto) and 2 (exact only, the reference), default grid, warm start on; and
-//! mode 2 on the grids 9 × 9, 15 × 15 and 20 × 20 (the exact step's cost against its force error).
+//! mode 2 on the grids 7 × 7, 9 × 9, 15 × 15 and 20 × 20 (the exact step's cost against its force error).
 //!
 //! Per mode: how many steps the FMU evaluated by table and by the exact solver, and how many it refused
 //! (`fmi2Error`; mode 1 refuses a geometry other than its table's: the pass goes on in a fresh
@@ -15,7 +15,14 @@
 //! Criterion then times whole passes over the steps a mode evaluates (criterion group `mbs_trace`,
 //! throughput = steps per pass) for the modes whose pass takes at most [`CRITERION_PASS_BUDGET`]: a
 //! mode whose steps fall back to the exact solver (milliseconds each) is timed by its single pass only.
-//! Run with `cargo bench -p wheelrail-fmu --bench trace`.
+//! The times are also split by the row's wetness (dry: w = 0, wet: w > 0), and set beside Polach's on the
+//! same trace in the same run (issue 14), as wall time and as the thread's CPU time (which leaves out the
+//! waits of a loaded shared machine): the library's Polach law (`friction.law = "polach"`, docs/model.md
+//! §12.2, which the FMU does not offer) through the same evaluation policy, exact mode, with each row's
+//! geometry, timed per step on this thread; every mode's mean and p99 as a ratio to Polach's mean.
+//! Run with `cargo bench -p wheelrail-fmu --bench trace`; environment variable `WHEELRAIL_TRACE_MODES`
+//! (names separated by commas, e.g. `exact 9x9,exact 15x15`) restricts the modes measured besides the
+//! reference mode 2 on the default grid (always run: the force errors are against it).
 
 use WheelRailFriction::contact::variables::{
     DEFAULT_GRID_SIZE, EVALUATION_MODE, FORCE_LATERAL, FORCE_LONGITUDINAL, VARIABLES,
@@ -54,6 +61,8 @@ struct Trace {
     rows: Vec<Vec<f64>>,
     /// The column of `normal_force` in `rows`.
     normal_force: usize,
+    /// The column of `wetness` in `rows` (None: the trace is dry).
+    wetness: Option<usize>,
     /// The communication step [s].
     step: f64,
 }
@@ -86,6 +95,7 @@ impl Trace {
             .iter()
             .position(|n| n == "normal_force")
             .expect("a normal_force column");
+        let wetness = names.iter().position(|n| n == "wetness");
         let (mut times, mut rows) = (Vec::new(), Vec::new());
         for (i, line) in lines.enumerate() {
             let values: Vec<f64> = line
@@ -120,6 +130,7 @@ impl Trace {
             times,
             rows,
             normal_force,
+            wetness,
             step,
         }
     }
@@ -151,7 +162,12 @@ const EXACT: Mode = Mode {
 /// Exact mode on coarser grids (issue 14: the cost of a warm exact step against its force error; the
 /// error is against mode 2 on the default grid, which is within about 1e-3·F_N of the grid-converged
 /// solution on this trace).
-const EXACT_COARSE: [Mode; 3] = [
+const EXACT_COARSE: [Mode; 4] = [
+    Mode {
+        code: 2,
+        name: "exact 7x7",
+        grid: 7,
+    },
     Mode {
         code: 2,
         name: "exact 9x9",
@@ -178,6 +194,88 @@ struct Outcome {
     path: i32,
     /// Time of setting the inputs and `fmi2DoStep` [ns].
     nanos: f64,
+    /// The thread's CPU time in it [ns].
+    cpu_nanos: f64,
+}
+
+impl Trace {
+    /// Whether row `k` is wet (w > 0).
+    fn wet(&self, k: usize) -> bool {
+        self.wetness.is_some_and(|c| self.rows[k][c] > 0.0)
+    }
+
+    /// The library's inputs of row `k`: the operating point and the contact geometry (the FMU's input
+    /// names mapped as the FMU maps them; columns the trace lacks keep the FMU's start values).
+    fn library_inputs(&self, k: usize) -> (wheelrail::OperatingPoint, wheelrail::params::Geometry) {
+        let value = |name: &str| {
+            self.names
+                .iter()
+                .position(|n| n == name)
+                .map(|c| self.rows[k][c])
+        };
+        let mut point = wheelrail::OperatingPoint::default();
+        let defaults = wheelrail::Params::default().geometry;
+        for (name, field) in [
+            ("creepage_longitudinal", &mut point.creepage_x),
+            ("creepage_lateral", &mut point.creepage_y),
+            ("spin_creepage", &mut point.spin),
+            ("normal_force", &mut point.normal_force),
+            ("rolling_speed", &mut point.speed),
+            ("wetness", &mut point.wetness),
+        ] {
+            if let Some(v) = value(name) {
+                *field = v;
+            }
+        }
+        let geometry = wheelrail::params::Geometry::of_inputs(
+            value("curvature_longitudinal").unwrap_or(defaults.curvature_x),
+            value("curvature_lateral").unwrap_or(defaults.curvature_y),
+            [
+                value("semi_axis_a").unwrap_or(0.0),
+                value("semi_axis_b").unwrap_or(0.0),
+            ],
+        );
+        (point, geometry)
+    }
+}
+
+/// The time per step [ns] of the library's Polach law over the whole trace (see the module
+/// documentation): one pass, then more while they add up to less than [`TIMING_BUDGET`]; per step the
+/// wetness of the row, the wall time and the thread's CPU time [ns].
+fn polach_times(trace: &Trace) -> Vec<(bool, f64, f64)> {
+    use wheelrail::model::{Evaluator, Mode as Route, Policy};
+    let mut params = wheelrail::Params::default();
+    params.friction.law = wheelrail::params::FrictionLaw::Polach;
+    let evaluator = Evaluator::new(
+        wheelrail::Model::new(params).expect("valid parameters"),
+        Route::ExactOnly,
+        None,
+        Policy::default(),
+    )
+    .expect("an evaluator");
+    let inputs: Vec<_> = (0..trace.rows.len())
+        .map(|k| trace.library_inputs(k))
+        .collect();
+    let mut times = Vec::new();
+    let mut spent = 0.0;
+    while times.is_empty()
+        || (spent < TIMING_BUDGET.as_secs_f64() && times.len() < MAX_TIMING_PASSES * inputs.len())
+    {
+        let mut warm = None;
+        for (k, (point, geometry)) in inputs.iter().enumerate() {
+            let cpu = thread_cpu_ns();
+            let start = Instant::now();
+            let e = evaluator
+                .evaluate_at(point, geometry, None, &mut warm)
+                .unwrap_or_else(|e| panic!("Polach at row {k}: {e}"));
+            let time = start.elapsed();
+            let cpu = thread_cpu_ns() - cpu;
+            std::hint::black_box(e);
+            spent += time.as_secs_f64();
+            times.push((trace.wet(k), time.as_nanos() as f64, cpu));
+        }
+    }
+    times
 }
 
 /// The bench's instances: the bundled table, default grid, warm start. An instance that has evaluated by
@@ -221,11 +319,46 @@ impl Drop for Instances {
     }
 }
 
+/// The CPU time this thread has used (`CLOCK_THREAD_CPUTIME_ID`): unlike the wall time it leaves out the
+/// time the thread waits while the shared machine runs others (NaN where there is no such clock).
+#[cfg(target_os = "linux")]
+fn thread_cpu_ns() -> f64 {
+    #[repr(C)]
+    struct Timespec {
+        sec: i64,
+        nsec: i64,
+    }
+    unsafe extern "C" {
+        fn clock_gettime(clock: i32, time: *mut Timespec) -> i32;
+    }
+    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
+    let mut t = Timespec { sec: 0, nsec: 0 };
+    // SAFETY: a valid clock id and a pointer to a live timespec
+    match unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut t) } {
+        0 => t.sec as f64 * 1e9 + t.nsec as f64,
+        _ => f64::NAN,
+    }
+}
+
+/// The CPU time this thread has used (NaN: no per-thread clock here).
+#[cfg(not(target_os = "linux"))]
+fn thread_cpu_ns() -> f64 {
+    f64::NAN
+}
+
+/// A step's time: wall [s] and the thread's CPU time [ns].
+#[derive(Clone, Copy)]
+struct Took {
+    wall: Duration,
+    cpu_ns: f64,
+}
+
 /// Sets the inputs of row `k` and does its step; returns the status and the time both took.
 ///
 /// # Safety
 /// `fmu` is a live instance at a communication point.
-unsafe fn step(fmu: Fmi2Component, trace: &Trace, k: usize) -> (i32, Duration) {
+unsafe fn step(fmu: Fmi2Component, trace: &Trace, k: usize) -> (i32, Took) {
+    let cpu = thread_cpu_ns();
     let start = Instant::now();
     let status = unsafe {
         let set = fmi2SetReal(
@@ -237,7 +370,14 @@ unsafe fn step(fmu: Fmi2Component, trace: &Trace, k: usize) -> (i32, Duration) {
         assert_eq!(set, 0, "fmi2SetReal of row {k}");
         fmi2DoStep(fmu, trace.times[k], trace.step, 1)
     };
-    (status, start.elapsed())
+    let wall = start.elapsed();
+    (
+        status,
+        Took {
+            wall,
+            cpu_ns: thread_cpu_ns() - cpu,
+        },
+    )
 }
 
 /// One pass over `steps` (row indices, in order) in a fresh instance of `mode`: per step its outcome,
@@ -272,7 +412,8 @@ fn pass(instances: &Instances, mode: Mode, trace: &Trace, steps: &[usize]) -> Ve
                 force_x: forces[0],
                 force_y: forces[1],
                 path,
-                nanos: time.as_nanos() as f64,
+                nanos: time.wall.as_nanos() as f64,
+                cpu_nanos: time.cpu_ns,
             })
         })
         .collect();
@@ -282,7 +423,7 @@ fn pass(instances: &Instances, mode: Mode, trace: &Trace, steps: &[usize]) -> Ve
 
 /// The time of each step of one pass over `steps` (row indices, in order; none refused) in a fresh
 /// instance of `mode` (instance set-up not timed).
-fn timed_pass(instances: &Instances, mode: Mode, trace: &Trace, steps: &[usize]) -> Vec<Duration> {
+fn timed_pass(instances: &Instances, mode: Mode, trace: &Trace, steps: &[usize]) -> Vec<Took> {
     let fmu = instances.fresh(mode);
     let times = steps
         .iter()
@@ -340,8 +481,13 @@ fn measure(
         .copied()
         .filter(|&k| first[k].is_some())
         .collect();
-    let mut times: Vec<(i32, f64)> = first.iter().flatten().map(|o| (o.path, o.nanos)).collect();
-    let mut spent: f64 = times.iter().map(|t| t.1).sum::<f64>() * 1e-9;
+    // per step: path, wet, wall time, CPU time [ns]
+    let mut times: Vec<(i32, bool, f64, f64)> = all
+        .iter()
+        .zip(&first)
+        .filter_map(|(&k, o)| o.map(|o| (o.path, trace.wet(k), o.nanos, o.cpu_nanos)))
+        .collect();
+    let mut spent: f64 = times.iter().map(|t| t.2).sum::<f64>() * 1e-9;
     let mut passes = 1;
     while !evaluated.is_empty() && spent < TIMING_BUDGET.as_secs_f64() && passes < MAX_TIMING_PASSES
     {
@@ -349,19 +495,26 @@ fn measure(
             .iter()
             .zip(timed_pass(instances, mode, trace, &evaluated))
         {
-            times.push((first[k].map_or(0, |o| o.path), time.as_nanos() as f64));
-            spent += time.as_secs_f64();
+            times.push((
+                first[k].map_or(0, |o| o.path),
+                trace.wet(k),
+                time.wall.as_nanos() as f64,
+                time.cpu_ns,
+            ));
+            spent += time.wall.as_secs_f64();
         }
         passes += 1;
     }
     let by = |p: i32| first.iter().flatten().filter(|o| o.path == p).count();
-    let time_of = |p: Option<i32>| -> Vec<f64> {
+    let select = |p: Option<i32>, wet: Option<bool>, cpu: bool| -> Vec<f64> {
         times
             .iter()
-            .filter(|t| p.is_none_or(|p| t.0 == p))
-            .map(|t| t.1)
+            .filter(|t| p.is_none_or(|p| t.0 == p) && wet.is_none_or(|w| t.1 == w))
+            .map(|t| if cpu { t.3 } else { t.2 })
             .collect()
     };
+    let time_of = |p, wet| select(p, wet, false);
+    let cpu_of = |wet| select(None, wet, true);
     let mut report = json!({
         "mode": mode.code,
         "name": mode.name,
@@ -372,9 +525,14 @@ fn measure(
         "by_table": by(1),
         "by_exact": by(2),
         "timing_passes": passes,
-        "time_per_step_ns": stats(&time_of(None)),
-        "time_per_step_ns_by_table": stats(&time_of(Some(1))),
-        "time_per_step_ns_by_exact": stats(&time_of(Some(2))),
+        "time_per_step_ns": stats(&time_of(None, None)),
+        "time_per_step_ns_by_table": stats(&time_of(Some(1), None)),
+        "time_per_step_ns_by_exact": stats(&time_of(Some(2), None)),
+        "time_per_step_ns_dry": stats(&time_of(None, Some(false))),
+        "time_per_step_ns_wet": stats(&time_of(None, Some(true))),
+        "cpu_time_per_step_ns": stats(&cpu_of(None)),
+        "cpu_time_per_step_ns_dry": stats(&cpu_of(Some(false))),
+        "cpu_time_per_step_ns_wet": stats(&cpu_of(Some(true))),
     });
     if let Some(r) = reference {
         report["error_vs_exact"] = json!({
@@ -420,16 +578,62 @@ fn mbs_trace(c: &mut Criterion) {
         trace.step,
         trace.names.join(", ")
     );
+    let polach = polach_times(&trace);
+    let polach_select = |wet: Option<bool>, cpu: bool| -> Vec<f64> {
+        polach
+            .iter()
+            .filter(|t| wet.is_none_or(|w| t.0 == w))
+            .map(|t| if cpu { t.2 } else { t.1 })
+            .collect()
+    };
+    let polach_of = |wet| polach_select(wet, false);
+    let polach_mean = Stats::of(&polach_of(None)).mean;
+    let polach_cpu_mean = Stats::of(&polach_select(None, true)).mean;
+    let wanted = std::env::var("WHEELRAIL_TRACE_MODES").ok();
+    let selected = |mode: &Mode| {
+        wanted
+            .as_deref()
+            .is_none_or(|w| w.split(',').any(|n| n.trim() == mode.name))
+    };
     let (reference, _, exact) = measure(&instances, EXACT, &trace, None);
     let mut modes = vec![exact];
     let mut criterion_runs = Vec::new();
-    for mode in [TABLE_ONLY, AUTO].into_iter().chain(EXACT_COARSE) {
+    for mode in [TABLE_ONLY, AUTO]
+        .into_iter()
+        .chain(EXACT_COARSE)
+        .filter(selected)
+    {
         let (outcomes, evaluated, report) = measure(&instances, mode, &trace, Some(&reference));
         let first_pass: f64 = outcomes.iter().flatten().map(|o| o.nanos * 1e-9).sum();
         let by_exact = outcomes.iter().flatten().filter(|o| o.path == 2).count();
         criterion_runs.push((mode, evaluated, first_pass, by_exact));
         modes.push(report);
     }
+    for m in modes.iter_mut() {
+        let ratio = |key: &str, stat: &str| m[key][stat].as_f64().map(|t| t / polach_mean);
+        m["ratio_to_polach"] = json!({
+            "mean": ratio("time_per_step_ns", "mean"),
+            "p99": ratio("time_per_step_ns", "p99"),
+            "dry_mean": ratio("time_per_step_ns_dry", "mean"),
+            "dry_p99": ratio("time_per_step_ns_dry", "p99"),
+            "wet_mean": ratio("time_per_step_ns_wet", "mean"),
+            "wet_p99": ratio("time_per_step_ns_wet", "p99"),
+        });
+        let cpu = |key: &str, stat: &str| m[key][stat].as_f64().map(|t| t / polach_cpu_mean);
+        m["cpu_ratio_to_polach"] = json!({
+            "mean": cpu("cpu_time_per_step_ns", "mean"),
+            "p99": cpu("cpu_time_per_step_ns", "p99"),
+            "dry_mean": cpu("cpu_time_per_step_ns_dry", "mean"),
+            "dry_p99": cpu("cpu_time_per_step_ns_dry", "p99"),
+            "wet_mean": cpu("cpu_time_per_step_ns_wet", "mean"),
+            "wet_p99": cpu("cpu_time_per_step_ns_wet", "p99"),
+        });
+    }
+    println!(
+        "  Polach (library, exact mode, same trace): time per step mean {:.3} µs, p99 {:.3} µs",
+        polach_mean * 1e-3,
+        Stats::of(&polach_of(None)).p99 * 1e-3
+    );
     for m in &modes {
         let t = &m["time_per_step_ns"];
         println!(
@@ -443,6 +647,31 @@ fn mbs_trace(c: &mut Criterion) {
             t["mean"].as_f64().unwrap_or(f64::NAN) * 1e-3,
             t["p99"].as_f64().unwrap_or(f64::NAN) * 1e-3,
         );
+        let us = |v: &Value| v.as_f64().unwrap_or(f64::NAN) * 1e-3;
+        for (what, dry, wet, ratio) in [
+            (
+                "wall",
+                "time_per_step_ns_dry",
+                "time_per_step_ns_wet",
+                "ratio_to_polach",
+            ),
+            (
+                "CPU",
+                "cpu_time_per_step_ns_dry",
+                "cpu_time_per_step_ns_wet",
+                "cpu_ratio_to_polach",
+            ),
+        ] {
+            let (d, w) = (&m[dry], &m[wet]);
+            println!(
+                "    {what}: dry mean {:.3} µs, p99 {:.3} µs; wet mean {:.3} µs, p99 {:.3} µs; mean {:.1}x Polach's",
+                us(&d["mean"]),
+                us(&d["p99"]),
+                us(&w["mean"]),
+                us(&w["p99"]),
+                m[ratio]["mean"].as_f64().unwrap_or(f64::NAN),
+            );
+        }
         if let Some(e) = m.get("error_vs_exact") {
             println!(
                 "    |ΔF|/F_N against mode 2: mean {:.2e}, p99 {:.2e}, max {:.2e}",
@@ -474,6 +703,7 @@ fn mbs_trace(c: &mut Criterion) {
                 b.iter_custom(|iters| {
                     (0..iters)
                         .flat_map(|_| timed_pass(&instances, mode, &trace, &evaluated))
+                        .map(|t| t.wall)
                         .sum()
                 })
             });
@@ -499,6 +729,12 @@ fn mbs_trace(c: &mut Criterion) {
         "timer_overhead_ns": timer_overhead(),
         "load_average_start": load_start,
         "load_average_end": load_average(),
+        "polach": {
+            "time_per_step_ns": stats(&polach_of(None)),
+            "time_per_step_ns_dry": stats(&polach_of(Some(false))),
+            "time_per_step_ns_wet": stats(&polach_of(Some(true))),
+            "cpu_time_per_step_ns": stats(&polach_select(None, true)),
+        },
         "modes": modes,
         "criterion": criterion,
     });

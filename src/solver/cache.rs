@@ -174,7 +174,7 @@ impl SetupCache {
         )
     }
 
-    /// [`HeatModel::new`] of `grid` at the surface speeds `v_wheel`, `v_rail` [m/s] for `material`.
+    /// [`HeatModel::interpolated`] of `grid` at the surface speeds `v_wheel`, `v_rail` [m/s] for `material`.
     pub(super) fn heat_model(
         &self,
         grid: &ContactGrid,
@@ -186,7 +186,7 @@ impl SetupCache {
             self,
             |e| &mut e.heat,
             HeatKey::new(grid, v_wheel, v_rail, material),
-            || HeatModel::new(grid, v_wheel, v_rail, material).map(Arc::new),
+            || HeatModel::interpolated(grid, v_wheel, v_rail, material).map(Arc::new),
         )
     }
 

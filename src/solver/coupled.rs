@@ -87,6 +87,10 @@ fn contact_of(
     Ok((hertz, mat0, kalker, creep))
 }
 
+/// The largest contraction factor of the outer fixed point for which the a-posteriori estimate
+/// q/(1 − q)·change stands for the residual ([`Coupled::contraction`]): at most the change itself.
+const MAX_CONTRACTION: f64 = 0.5;
+
 /// The state of the outer iteration between two iterations.
 struct Coupled<'s, 'w> {
     setup: &'s Setup<'s>,
@@ -105,6 +109,10 @@ struct Coupled<'s, 'w> {
     warm_temperature: bool,
     /// The temperature part of the last outer residual (∞ before the first).
     temperature_change: f64,
+    /// Whether the current temperature iterate is the last one's target itself (a plain fixed-point
+    /// step, ω = 1, no backtrack since): only then does the ratio of the last two temperature changes
+    /// measure the contraction of the fixed-point map ([`Coupled::contraction`]).
+    plain_step: bool,
     /// The last heat partition: the start of the next one.
     heat_solution: Option<HeatSolution>,
     /// The tractions to start the exact tangential solve from [Pa]: the last iteration's, or the warm
@@ -149,6 +157,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
             warm_film: warm.and_then(WarmStart::film),
             warm_temperature,
             temperature_change: f64::INFINITY,
+            plain_step: false,
             heat_solution: None,
             traction_start: warm
                 .filter(|_| setup.steady.is_some())
@@ -175,8 +184,13 @@ impl<'s, 'w> Coupled<'s, 'w> {
                 .map(|(t, tc)| t - tc)
                 .collect();
             let (temperature_change, tau_change) = self.outer_changes(&step, &increment);
+            let contraction = self.contraction(temperature_change);
             self.temperature_change = temperature_change;
-            self.report.residual = temperature_change.max(tau_change);
+            let change = temperature_change.max(tau_change);
+            // the a-posteriori estimate of this iterate's distance from the fixed point where the
+            // iteration is known to contract, else the change itself
+            self.report.residual = contraction.map_or(change, |q| q / (1.0 - q) * change);
+
             let solver = &self.setup.params.solver;
             let outer_met = self.report.residual <= solver.tolerance;
             let unmet = first_unmet(
@@ -235,13 +249,14 @@ impl<'s, 'w> Coupled<'s, 'w> {
     /// the film need only be as accurate as the outer iteration; once the outer residual is within 100×
     /// the tolerance (the next iteration may be the last) the film is solved to the full fluid tolerance.
     /// From a warm start's temperature, the second iteration (whose residual is still ∞: the first
-    /// adhesion limit has no predecessor) goes by the first one's temperature change instead: a warm step
-    /// whose temperature has not moved solves its film to the full tolerance and can end there.
+    /// adhesion limit has no predecessor) solves its film to the full tolerance: a warm step may end
+    /// there, by the a-posteriori estimate of the contraction ([`Coupled::contraction`]).
     fn film_tolerance(&self) -> f64 {
         let solver = &self.setup.params.solver;
         let fluid_tol = solver.fluid_tolerance;
+        let second = self.temperature_change.is_finite();
         let residual = match self.report.residual {
-            r if r.is_infinite() && self.warm_temperature => self.temperature_change,
+            r if r.is_infinite() && self.warm_temperature && second => 0.0,
             r => r,
         };
         if self.setup.temperature_feeds_back() && residual > 1e2 * solver.tolerance {
@@ -300,6 +315,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
             }
         }
         self.relaxation.damp();
+        self.plain_step = false;
         self.film = None;
         self.report.temperature_backtracks += 1;
         Ok(None)
@@ -378,10 +394,25 @@ impl<'s, 'w> Coupled<'s, 'w> {
         (t_change, tau_change)
     }
 
+    /// The contraction factor q of the outer fixed point T ↦ T_target, measured as the ratio of this
+    /// iteration's relative temperature change to the last one's, where the last update was a plain
+    /// step (T_k = T_target(T_{k−1}), so that the changes are successive differences of the map,
+    /// Δ_k ≈ J·Δ_{k−1}) and q < [`MAX_CONTRACTION`]; None otherwise (the first iteration, relaxed or
+    /// backtracked updates, slow or no contraction). With it, this iterate's distance from the fixed
+    /// point is at most q/(1 − q) times its change (the a-posteriori bound of a contraction, docs/model.md
+    /// §9): that of the temperature directly, that of τ_l (computed from the previous iterate, whose
+    /// distance is the change over 1 − q) through τ_l's measured sensitivity, its change over the last
+    /// temperature change.
+    fn contraction(&self, temperature_change: f64) -> Option<f64> {
+        let q = temperature_change / self.temperature_change;
+        (self.plain_step && self.temperature_change > 0.0 && q < MAX_CONTRACTION).then_some(q)
+    }
+
     /// Prepares the next iteration: the relaxed temperature update, and this iteration's adhesion limit,
     /// separations and film as the next one's references and starts.
     fn update(&mut self, step: Step, increment: Vec<f64>) {
         self.backtracking.remember(&self.temperature);
+        self.plain_step = self.relaxation.is_plain();
         self.relaxation.apply(&mut self.temperature, increment);
         self.prev_tau = Some(step.adhesion.limit);
         self.dry_guess = Some(step.local.dry_separation);
@@ -416,6 +447,7 @@ fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
 mod tests {
     use super::*;
     use crate::params::Tangential;
+    use crate::solver::WarmStart;
 
     /// The solve of `params` at `point` with every exact tangential solve limited to `max_sweeps`.
     fn limited(params: &Params, point: &OperatingPoint, max_sweeps: usize) -> Iterate {
@@ -424,6 +456,73 @@ mod tests {
         let mut setup = Setup::new(params, point, hertz, &mat0, &kalker, creep, &cache).unwrap();
         setup.exact.max_sweeps = max_sweeps;
         Coupled::start(&setup, None).run().unwrap()
+    }
+
+    /// The step `k` of an MBS-like run at 1 kHz on a 9 × 9 grid (load ±1 % at 23 Hz, braking 0.5 m/s²,
+    /// ξ oscillating, the lateral curvature growing into a curve): its parameters (the geometry) and point.
+    fn mbs_step(k: usize, wetness: f64) -> (Params, OperatingPoint) {
+        let mut p = Params::default();
+        p.grid.nx = 9;
+        p.grid.ny = 9;
+        p.geometry.curvature_y *= 1.0 + 0.002 * k as f64;
+        let t = k as f64 * 1e-3;
+        let wave = (2.0 * std::f64::consts::PI * 23.0 * t).sin();
+        let point = OperatingPoint {
+            creepage_x: 0.004 * (1.0 + 0.01 * wave),
+            creepage_y: -0.002,
+            spin: 0.3,
+            normal_force: 100e3 * (1.0 + 0.01 * wave),
+            speed: 25.0 - 0.5 * t,
+            wetness,
+        };
+        (p, point)
+    }
+
+    /// The largest relative difference of two solutions: forces over F_N, temperature rises over the
+    /// largest rise.
+    fn difference(a: &Solution, b: &Solution) -> f64 {
+        let (ga, gb) = (&a.global, &b.global);
+        let force = (ga.force_x - gb.force_x).hypot(ga.force_y - gb.force_y) / ga.normal_force;
+        let (fa, fb) = (a.fields.as_ref().unwrap(), b.fields.as_ref().unwrap());
+        let t0 = Params::default().material.bulk_temperature;
+        let rise = fa.temperature.iter().fold(1.0_f64, |m, t| m.max(t - t0));
+        force.max(max_abs_diff(&fa.temperature, &fb.temperature) / rise)
+    }
+
+    /// Warm MBS steps (issue 14): each ends after 2 or 3 outer iterations, stopped by the a-posteriori
+    /// estimate of the contraction (without it, 3 or 4), and agrees with the cold solve and with a
+    /// solve converged to 1e-12 within the solver tolerance 1e-6 (forces over F_N, temperatures over
+    /// the largest rise), dry and wet.
+    #[test]
+    fn warm_mbs_steps_take_at_most_three_iterations_and_agree_with_cold_ones() {
+        for wetness in [0.0, 1.0] {
+            let cache = SetupCache::default();
+            let mut warm: Option<WarmStart> = None;
+            let mut iterations = Vec::new();
+            for k in 0..12 {
+                let (p, point) = mbs_step(k, wetness);
+                let s = solve_cached(&p, &point, warm.as_ref(), &cache).unwrap();
+                assert!(s.report.converged, "step {k}");
+                if k > 0 {
+                    iterations.push(s.report.iterations);
+                    let cold = solve_cached(&p, &point, None, &cache).unwrap();
+                    let mut tight_params = p.clone();
+                    tight_params.solver.tolerance = 1e-12;
+                    let tight = solve_cached(&tight_params, &point, None, &cache).unwrap();
+                    for (what, other) in [("cold", &cold), ("converged", &tight)] {
+                        let d = difference(&s, other);
+                        assert!(
+                            d <= p.solver.tolerance,
+                            "w {wetness}, step {k}, {what}: {d:.2e}"
+                        );
+                    }
+                }
+                warm = s.warm_start();
+            }
+            let most = *iterations.iter().max().unwrap();
+            let mean = iterations.iter().sum::<usize>() as f64 / iterations.len() as f64;
+            assert!(most <= 3 && mean <= 2.5, "w {wetness}: {iterations:?}");
+        }
     }
 
     /// A tangential solve that does not converge keeps the outer iteration going from its tractions (one

@@ -25,6 +25,12 @@ impl Relaxation {
         }
     }
 
+    /// Whether the updates so far were plain fixed-point steps T ← T_target (ω = 1): then successive
+    /// increments shrink by the contraction factor of the fixed-point map.
+    pub fn is_plain(&self) -> bool {
+        self.omega == 1.0
+    }
+
     /// Halves the factor (after a backtracked update).
     pub fn damp(&mut self) {
         self.omega *= 0.5;

@@ -129,7 +129,10 @@ impl Serialize for Termination {
 pub struct SolverReport {
     /// Outer iterations performed.
     pub iterations: usize,
-    /// Final residual: the larger of the relative change of the adhesion limit and of the temperature rise.
+    /// Final residual: the larger of the relative change of the adhesion limit and of the temperature rise
+    /// in the last iteration, or, where the outer iteration contracts measurably (plain steps, the last
+    /// two temperature changes falling by q < 1/2), the a-posteriori estimate q/(1 − q) times it of the
+    /// result's distance from the fixed point (docs/model.md §9).
     pub residual: f64,
     /// Whether the result is converged (equal to `termination.converged()`).
     pub converged: bool,

@@ -409,6 +409,33 @@ impl InfluenceTable {
         })
     }
 
+    /// A table of given coefficients G(Δi, Δj) at index (Δi + nx − 1) + (2nx − 1)·Δj, Δj ≥ 0
+    /// [K·m²/W], with their largest error estimate `error` [K·m²/W] (an interpolated table,
+    /// [`super::lattice::interpolated_table`]: no quadrature panel of its own).
+    pub(super) fn from_values(nx: usize, ny: usize, values: Vec<f64>, error: f64) -> Result<Self> {
+        if nx == 0 || ny == 0 || values.len() != (2 * nx - 1) * ny {
+            return Err(Error::Numerical {
+                stage: Stage::ThermalInfluenceCoefficient,
+                reason: format!(
+                    "{} coefficients for a {nx}x{ny} grid's offsets",
+                    values.len()
+                ),
+            });
+        }
+        Ok(Self {
+            nx,
+            ny,
+            values,
+            error,
+            panels: 0,
+        })
+    }
+
+    /// The coefficients G(Δi, Δj) at index (Δi + nx − 1) + (2nx − 1)·Δj, Δj ≥ 0 [K·m²/W].
+    pub(super) fn values(&self) -> &[f64] {
+        &self.values
+    }
+
     /// Table for the cells of `grid`.
     pub fn for_grid(body: &MovingHalfSpace, grid: &ContactGrid) -> Result<Self> {
         Self::new(body, grid.nx, grid.ny, grid.hx, grid.hy)

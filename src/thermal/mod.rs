@@ -4,6 +4,7 @@ pub mod convolution;
 pub mod expint;
 pub mod influence;
 pub mod krylov;
+pub mod lattice;
 pub mod partition;
 
 pub use influence::{InfluenceTable, MovingHalfSpace};
