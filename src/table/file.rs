@@ -211,11 +211,12 @@ pub fn axis_records(axes: &Axes) -> Vec<AxisRecord> {
     axes.0
         .iter()
         .zip(DIMENSIONS.iter())
-        .map(|(a, d)| AxisRecord {
+        .enumerate()
+        .map(|(dim, (a, d))| AxisRecord {
             name: d.name.into(),
             symbol: d.symbol.into(),
             unit: d.unit.into(),
-            interpolation: d.interpolation,
+            interpolation: a.interpolation(dim),
             mirrored: a.mirrored,
             points: a.points.clone(),
             raw_limit: a.raw_limit,
@@ -242,7 +243,13 @@ fn axes_of(sidecar: &Sidecar, path: &Path) -> Result<Axes> {
     }
     let mut axes = Vec::with_capacity(DIMS);
     for (r, d) in records.iter().zip(DIMENSIONS.iter()) {
-        if r.name != d.name || r.unit != d.unit || r.interpolation != d.interpolation {
+        // a linear dimension may be interpolated in ln x
+        let logarithmic =
+            d.interpolation == Interpolation::Linear && r.interpolation == Interpolation::Log;
+        if r.name != d.name
+            || r.unit != d.unit
+            || (r.interpolation != d.interpolation && !logarithmic)
+        {
             return Err(corrupt(
                 path,
                 format!(
@@ -256,6 +263,7 @@ fn axes_of(sidecar: &Sidecar, path: &Path) -> Result<Axes> {
             mirrored: r.mirrored,
             raw_limit: r.raw_limit,
             raw_scale: r.raw_scale,
+            logarithmic,
         });
     }
     if sidecar.format_version == 1 {
@@ -274,6 +282,7 @@ fn axes_of(sidecar: &Sidecar, path: &Path) -> Result<Axes> {
                 mirrored: false,
                 raw_limit: None,
                 raw_scale: None,
+                logarithmic: false,
             });
         }
     }

@@ -251,7 +251,7 @@ impl Table {
             }
         }
         let interp =
-            std::array::from_fn(|d| AxisInterp::new(&axes.0[d], DIMENSIONS[d].interpolation));
+            std::array::from_fn(|d| AxisInterp::new(&axes.0[d], axes.0[d].interpolation(d)));
         Ok(Table {
             bulk_temperature: files.sidecar.params.material.bulk_temperature,
             coordinates: Coordinates::new(&files.sidecar.params, &axes),
@@ -949,6 +949,7 @@ pub fn other_parameters(table: &Table, params: &Params) -> Error {
 mod tests {
     use super::*;
     use crate::params::FrictionLaw;
+    use axes::SPEED;
 
     /// A function with the model's symmetries, linear in each creepage coordinate and affine in the linear
     /// ones: the interpolant reproduces it exactly. Monomials x^a·y^b·φ^c: the ξ mirror multiplies them by
@@ -1047,30 +1048,74 @@ mod tests {
         axes
     }
 
+    /// The linear dimensions of [`tiny_axes`] that can be interpolated in ln x (all but w), with a point
+    /// of each axis.
+    const LOG_DIMS: [(usize, f64); 4] = [
+        (FORCE, 50e3),
+        (SPEED, 10.0),
+        (RATIO, 0.5),
+        (PRESSURE, 0.7e9),
+    ];
+
+    /// `axes` with F_N, V, a/b and p_ref interpolated in ln x.
+    fn logarithmic(mut axes: Axes) -> Axes {
+        for (d, _) in LOG_DIMS {
+            axes.0[d].logarithmic = true;
+        }
+        axes.validate().unwrap();
+        axes
+    }
+
+    /// [`symmetric_multilinear`] of x0·(1 + ln(x/x0)) instead of x along F_N, V, a/b, p_ref: multilinear
+    /// in their logarithms, the data class log axes reproduce.
+    fn symmetric_multilinear_in_logs(c: &[f64; DIMS]) -> [f64; OUTPUTS] {
+        let mut l = *c;
+        for (d, x0) in LOG_DIMS {
+            l[d] = x0 * (1.0 + (c[d] / x0).ln());
+        }
+        symmetric_multilinear(&l)
+    }
+
     #[test]
     fn interpolant_reproduces_symmetric_multilinear_functions_and_their_derivatives() {
         let params = coarse_params();
         for axes in [tiny_axes(), blended(tiny_axes())] {
-            reproduces_symmetric_multilinear(&synthetic(&axes, &params, &symmetric_multilinear));
+            reproduces(
+                &synthetic(&axes, &params, &symmetric_multilinear),
+                &symmetric_multilinear,
+            );
         }
+        // log axes: exact for data multilinear in the logarithms (and not for data multilinear in x)
+        let f = symmetric_multilinear_in_logs;
+        let log = synthetic(&logarithmic(tiny_axes()), &params, &f);
+        reproduces(&log, &f);
+        let t = synthetic(&logarithmic(tiny_axes()), &params, &symmetric_multilinear);
+        let c = [0.0, 0.0, 0.0, 75e3, 10.0, 0.5, 0.5, 0.7e9];
+        let (p, e) = at(&t, &c, 0.0);
+        // T = 300 + 50·(1 + 2e-6·F_N + …): F_N interpolated at ln(1.5)/ln(2) of its cell, not at 1/2
+        let off = t.evaluate(&p, &e).unwrap().max_temperature - symmetric_multilinear(&c)[3];
+        assert!(
+            (off - 50.0 * 2e-6 * 50e3 * (1.5f64.ln() / 2f64.ln() - 0.5)).abs() < 1e-4,
+            "{off}"
+        );
     }
 
-    /// The interpolant of [`symmetric_multilinear`] and its Jacobian (through the table's coordinates,
-    /// plain or knee-blended) at 500 random points.
-    fn reproduces_symmetric_multilinear(t: &Table) {
+    /// The interpolant of `f` (a function the table reproduces exactly) and its Jacobian (through the
+    /// table's coordinates, plain or knee-blended) at 500 random points.
+    fn reproduces(t: &Table, f: &dyn Fn(&[f64; DIMS]) -> [f64; OUTPUTS]) {
         let mut rng = verify::SplitMix64::new(7);
         for n in 0..500 {
             let c = random_coordinates(&mut rng);
             let exponent = if n % 2 == 0 { 0.0 } else { Ellipse::HERTZ };
             let (pt, e) = at(t, &c, exponent);
             let (o, j) = t.evaluate_with_jacobian(&pt, &e).unwrap();
-            let want = symmetric_multilinear(&c);
-            let f = c[FORCE];
+            let want = f(&c);
+            let force = c[FORCE];
             assert!(o.in_range && o.converged, "{c:?}");
-            assert!((o.force_x / f - want[0]).abs() < 1e-6, "{c:?}");
-            assert!((o.force_y / f - want[1]).abs() < 1e-6, "{c:?}");
+            assert!((o.force_x / force - want[0]).abs() < 1e-6, "{c:?}");
+            assert!((o.force_y / force - want[1]).abs() < 1e-6, "{c:?}");
             assert!(
-                (o.spin_moment / (f * e.radius()) - want[2]).abs() < 1e-6,
+                (o.spin_moment / (force * e.radius()) - want[2]).abs() < 1e-6,
                 "{c:?}"
             );
             assert!((o.max_temperature - want[3]).abs() < 1e-4, "{c:?}");
@@ -1081,12 +1126,12 @@ mod tests {
                 let exact = |h: f64| {
                     let (p, e) = moved(&pt, &e, d, h);
                     let (q, _) = t.coordinates().of(&p, &e).unwrap();
-                    physical(&p, &e, &symmetric_multilinear(&q))
+                    physical(&p, &e, &f(&q))
                 };
                 let (pp, pm) = (exact(h), exact(-h));
                 for o in 0..JACOBIAN_ROWS {
                     let fd = (pp[o] - pm[o]) / (2.0 * h);
-                    let scale = [f, f, f * e.radius(), 1.0, 300.0, 1.0][o]
+                    let scale = [force, force, force * e.radius(), 1.0, 300.0, 1.0][o]
                         / [0.05, 0.02, 1.0, 1e5, 20.0, 1.0][d];
                     // the node values are stored in f32: their rounding (relative 6e-8) over node
                     // spacings

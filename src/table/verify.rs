@@ -89,7 +89,12 @@ pub fn sample_points(table: &Table, n: usize, seed: u64) -> Vec<Sample> {
                     lo + (hi - lo) * rng.uniform()
                 } else {
                     let i = rng.below(below.len() - 1);
-                    let mid = 0.5 * (below[i] + below[i + 1]);
+                    // the midpoint in the coordinate the axis interpolates in (ln x on log axes)
+                    let mid = if a.logarithmic {
+                        (below[i] * below[i + 1]).sqrt()
+                    } else {
+                        0.5 * (below[i] + below[i + 1])
+                    };
                     if a.mirrored && rng.uniform() < 0.5 {
                         -mid
                     } else {
