@@ -85,6 +85,19 @@ impl Corners {
     /// so the result is deterministic).
     #[inline(always)]
     pub fn of(f: &[Fraction; LINEAR_DIMS]) -> Corners {
+        Self::with::<true>(f)
+    }
+
+    /// [`Corners::of`] without the weights' derivatives (`dw` left zero), for evaluations without a
+    /// Jacobian.
+    #[inline(always)]
+    pub fn without_derivatives(f: &[Fraction; LINEAR_DIMS]) -> Corners {
+        Self::with::<false>(f)
+    }
+
+    /// [`Corners::of`], the derivatives only if `DW`.
+    #[inline(always)]
+    fn with<const DW: bool>(f: &[Fraction; LINEAR_DIMS]) -> Corners {
         const S: usize = SIMPLICIAL.len() + 1;
         // the simplex over the axes with more than one point, by descending fraction
         let (mut order, k_s) = stepping(SIMPLICIAL, f);
@@ -138,11 +151,13 @@ impl Corners {
             for k in 0..=k_s {
                 let i = m * (k_s + 1) + k;
                 c.w[i] = wm * ws[k];
-                for (b, &d) in multi[..k_m].iter().enumerate() {
-                    c.dw[d][i] = dwm[b] * ws[k];
-                }
-                for &d in &order[..k_s] {
-                    c.dw[d][i] = wm * dws[d][k];
+                if DW {
+                    for (b, &d) in multi[..k_m].iter().enumerate() {
+                        c.dw[d][i] = dwm[b] * ws[k];
+                    }
+                    for &d in &order[..k_s] {
+                        c.dw[d][i] = wm * dws[d][k];
+                    }
                 }
                 for d in 0..LINEAR_DIMS {
                     c.step[i][d] = step[d] + steps_s[k][d];
