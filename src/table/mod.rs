@@ -115,14 +115,13 @@ pub const PROBE_TOLERANCE: [f64; OUTPUTS] = [1e-6, 1e-6, 1e-6, 1e-3, 1e-6, 1e-6]
 /// Values per stored point in memory: the outputs and their slopes along φ (three 4-wide vectors).
 const ROW: usize = 2 * OUTPUTS;
 
-/// One stored point in memory: the values at the positions `VAL` and `SLOPE`, widened to f64 once at
-/// loading (the lookup then contracts them with fused multiply-adds straight from memory, no per-lookup
-/// conversions), 32-byte aligned so that no 4-wide load crosses a cache line.
+/// One stored point in memory: the values at the positions `VAL` and `SLOPE`, in the stored precision,
+/// 16-byte aligned so that no 4-wide load crosses a cache line.
 #[derive(Debug, Clone, Copy, Default)]
-#[repr(C, align(32))]
-struct Row([f64; ROW]);
+#[repr(C, align(16))]
+struct Row([f32; ROW]);
 
-const _: () = assert!(std::mem::size_of::<Row>() == ROW * 8);
+const _: () = assert!(std::mem::size_of::<Row>() == ROW * 4);
 
 /// Tables whose rows take more memory than this are prefetched during a lookup (a smaller table stays in
 /// the caches, where prefetches are pure overhead) [bytes].
@@ -244,7 +243,7 @@ impl Table {
         let mut converged = vec![0; n];
         for (i, m) in memory.iter().enumerate() {
             for (o, v) in VAL.iter().enumerate() {
-                rows[*m].0[*v] = f64::from(files.outputs[o][i]);
+                rows[*m].0[*v] = files.outputs[o][i];
             }
             converged[*m] = files.converged[i];
         }
@@ -256,11 +255,11 @@ impl Table {
         for fibre in rows.chunks_exact_mut(np) {
             for o in 0..OUTPUTS {
                 for (v, r) in y.iter_mut().zip(fibre.iter()) {
-                    *v = r.0[VAL[o]];
+                    *v = f64::from(r.0[VAL[o]]);
                 }
                 interp::node_slopes(phi, &y, &mut d);
                 for (v, r) in d.iter().zip(fibre.iter_mut()) {
-                    r.0[SLOPE[o]] = f64::from(*v as f32);
+                    r.0[SLOPE[o]] = *v as f32;
                 }
             }
         }
@@ -329,7 +328,7 @@ impl Table {
             let want = build::normalised(&s, &point, e.radius())?;
             let stored = self.rows[memory_index(&self.axes.shape(), &self.strides, n)].0;
             let stale = (0..OUTPUTS).find(|&o| {
-                let (a, b) = (f64::from(want[o]), stored[VAL[o]]);
+                let (a, b) = (f64::from(want[o]), f64::from(stored[VAL[o]]));
                 // a format-1 table stores no frictional power (NaN)
                 let within = (a - b).abs() <= PROBE_TOLERANCE[o];
                 let absent = b.is_nan() && o == OUTPUTS - 1;
@@ -346,7 +345,7 @@ impl Table {
                         e.a,
                         e.b,
                         OUTPUT_INFO[o].name,
-                        stored[VAL[o]] as f32,
+                        stored[VAL[o]],
                         want[o],
                         PROBE_TOLERANCE[o]
                     ),
@@ -710,7 +709,7 @@ impl Table {
                         // SAFETY: a prefetch is only a hint: it never faults and changes no memory
                         // (the addresses are those of the corner's two rows in any case).
                         unsafe {
-                            for line in [0, 64, 128, 2 * std::mem::size_of::<Row>() - 1] {
+                            for line in [0, 2 * std::mem::size_of::<Row>() - 1] {
                                 _mm_prefetch::<_MM_HINT_T0>(ptr.wrapping_add(line));
                             }
                         }
@@ -744,7 +743,7 @@ impl Table {
                             let row = &rows[base + o + usize::from(fy != (e == 1))].0;
                             for o in 0..ROW {
                                 for (k, dlk) in dl.iter().enumerate() {
-                                    ad[o][k] += dlk[c] * row[o];
+                                    ad[o][k] += dlk[c] * f64::from(row[o]);
                                 }
                             }
                         }
@@ -837,11 +836,11 @@ fn hermite_of(pair: &[f64; 2 * ROW], h: &Hermite) -> [f64; OUTPUTS] {
 }
 
 /// One window point's values after the φ̂ stage: Σ_c w_c·(row, next row) over the linear corners, the rows
-/// `base + off[c]` and the one after it (the upper φ̂ node) of `rows`, accumulated in f64, then the
-/// Hermite weights `h` ([`hermite_of`]); the corner sums themselves are left in `pair` if `PAIR`. FMA
-/// kernels use 4-wide fused multiply-adds (the kernels then differ in the last bits only). `max_off` is
-/// the largest of `off` (the caller's invariant): the rows are checked to lie in `rows` once per call;
-/// rows out of bounds give NaN, never a read outside `rows`.
+/// `base + off[c]` and the one after it (the upper φ̂ node) of `rows`, widened to f64 and accumulated in
+/// f64, then the Hermite weights `h` ([`hermite_of`]); the corner sums themselves are left in `pair` if
+/// `PAIR`. FMA kernels use 4-wide conversions and fused multiply-adds (the kernels then differ in the last
+/// bits only). `max_off` is the largest of `off` (the caller's invariant): the rows are checked to lie in
+/// `rows` once per call; rows out of bounds give NaN, never a read outside `rows`.
 #[inline(always)]
 fn corner_sum<const FMA: bool, const PAIR: bool>(
     rows: &[Row],
@@ -869,15 +868,15 @@ fn corner_sum<const FMA: bool, const PAIR: bool>(
         let s = base + off[c];
         for (e, r) in rows[s..s + 2].iter().enumerate() {
             for k in 0..ROW {
-                pair[e * ROW + k] += w[c] * r.0[k];
+                pair[e * ROW + k] += w[c] * f64::from(r.0[k]);
             }
         }
     }
     hermite_of(pair, h)
 }
 
-/// [`corner_sum`] with AVX2 and FMA: a pair of rows as six aligned 4-wide loads and fused multiply-adds,
-/// the Hermite stage on the six sums in registers.
+/// [`corner_sum`] with AVX2 and FMA: a pair of rows as six aligned 4-wide f32 loads, conversions to f64
+/// and fused multiply-adds, the Hermite stage on the six sums in registers.
 ///
 /// # Safety
 /// Every pair of rows `base + off[c]`, `base + off[c] + 1` must lie in `rows`, and `w` hold at least
@@ -893,9 +892,9 @@ unsafe fn corner_sum_avx2<const PAIR: bool>(
     pair: &mut [f64; 2 * ROW],
 ) -> [f64; OUTPUTS] {
     use std::arch::x86_64::{
-        _mm_add_pd, _mm_storeu_pd, _mm256_castpd256_pd128, _mm256_extractf128_pd, _mm256_fmadd_pd,
-        _mm256_load_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd, _mm256_setzero_pd,
-        _mm256_storeu_pd,
+        _mm_add_pd, _mm_load_ps, _mm_storeu_pd, _mm256_castpd256_pd128, _mm256_cvtps_pd,
+        _mm256_extractf128_pd, _mm256_fmadd_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd,
+        _mm256_setzero_pd, _mm256_storeu_pd,
     };
     const { assert!(ROW == 12) };
     let mut v = [_mm256_setzero_pd(); 6];
@@ -905,12 +904,12 @@ unsafe fn corner_sum_avx2<const PAIR: bool>(
         let (wc, r) = unsafe {
             (
                 _mm256_set1_pd(*w.get_unchecked(c)),
-                p.add(base + o).cast::<f64>(),
+                p.add(base + o).cast::<f32>(),
             )
         };
         for (k, x) in v.iter_mut().enumerate() {
-            // SAFETY: values 4k .. 4k + 4 of the two rows, 32-byte aligned (`Row`)
-            let row = unsafe { _mm256_load_pd(r.add(4 * k)) };
+            // SAFETY: values 4k .. 4k + 4 of the two rows, 16-byte aligned (`Row`)
+            let row = unsafe { _mm256_cvtps_pd(_mm_load_ps(r.add(4 * k))) };
             *x = _mm256_fmadd_pd(wc, row, *x);
         }
     }
