@@ -30,7 +30,7 @@ use crate::error::{Error, Result};
 use crate::params::{OperatingPoint, Params};
 use crate::solver::{GlobalResults, Solution, SolverReport};
 use axes::{ETA, FORCE, LINEAR_DIMS, PHI, PRESSURE, RATIO, XI};
-use interp::{AxisInterp, CORNERS, Corners};
+use interp::{AxisInterp, CORNERS, Corners, Offsets};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock, Weak};
@@ -648,21 +648,18 @@ impl Table {
         let cy = self.interp[ETA].cubic(q[ETA]);
         let (k0, hw, hdw) = self.interp[PHI].cubic(q[PHI]).hermite();
         let fractions = std::array::from_fn(|k| self.interp[FORCE + k].fraction(q[FORCE + k]));
-        let corners = if JAC {
-            Corners::of(&fractions)
-        } else {
-            Corners::without_derivatives(&fractions)
-        };
         let st = &self.strides;
         let n_phi = self.axes.0[PHI].points.len() as isize;
-        // the linear corners' row offsets from the creepage node
-        let n = corners.n;
-        let off: [usize; CORNERS] = std::array::from_fn(|c| {
-            (0..L)
-                .map(|k| (corners.start[k] + corners.step[c][k]) * st[FORCE + k])
-                .sum()
-        });
-        let (off, dl, wl) = (&off[..n], &corners.dw, &corners.w[..n]);
+        // the linear corners' row offsets from the creepage node and weights (with the Jacobian, also the
+        // weights' derivatives)
+        let linear_strides = std::array::from_fn(|k| st[FORCE + k]);
+        let stencil = Offsets::of(&fractions, &linear_strides);
+        let dl = if JAC {
+            Corners::of(&fractions).dw
+        } else {
+            [[0.0; CORNERS]; L]
+        };
+        let (off, wl) = (&stencil.off[..stencil.n], &stencil.w[..stencil.n]);
         let max_off = off.iter().copied().max().unwrap_or(0);
         let rows = &self.rows[..];
         // the lower φ̂ node of the interval at a window point: k0, or on a ghost η̂ node (φ̂ reversed) the
@@ -670,21 +667,16 @@ impl Table {
         let lower = |fy: bool| if fy { n_phi - 2 - k0 } else { k0 } as usize;
         // the Hermite weights along φ̂ with the symmetry signs folded in (exact: the signs are ±1), per kind
         // of window point (2·[ghost ξ̂ node] + [ghost η̂ node])
+        let ends = [[hw[0], hw[0], hw[1], hw[1]], [hw[2], hw[2], hw[3], hw[3]]];
         let mut hermite = [[[[0.0; 4]; 3]; 2]; 4];
         for (g, hg) in hermite.iter_mut().enumerate() {
-            let fy = g & 1 == 1;
-            let (sv, sd) = signs(g >> 1 == 1, fy);
             for (m, hm) in hg.iter_mut().enumerate() {
                 // the lower row in memory is node k0, the upper k0 + 1; reversed on a ghost η̂ node
-                let e = if fy { 1 - m } else { m };
-                let (v, d) = (hw[2 * e], hw[2 * e + 1]);
+                let e = if g & 1 == 1 { 1 - m } else { m };
                 for (k, hk) in hm.iter_mut().enumerate() {
-                    *hk = [
-                        v * sv[2 * k],
-                        v * sv[2 * k + 1],
-                        d * sd[2 * k],
-                        d * sd[2 * k + 1],
-                    ];
+                    for (l, h) in hk.iter_mut().enumerate() {
+                        *h = ends[e][l] * SIGN_LANES[g][k][l];
+                    }
                 }
             }
         }
@@ -813,11 +805,28 @@ impl Table {
 /// and of the φ̂ slopes per output: the ξ mirror flips F_x, the η mirror flips F_y and M_z and reverses φ̂
 /// (the slopes flip once more).
 #[inline(always)]
-fn signs(fx: bool, fy: bool) -> ([f64; OUTPUTS], [f64; OUTPUTS]) {
+const fn signs(fx: bool, fy: bool) -> ([f64; OUTPUTS], [f64; OUTPUTS]) {
     let sx = if fx { -1.0 } else { 1.0 };
     let sy = if fy { -1.0 } else { 1.0 };
     ([sx, sy, sy, 1.0, 1.0, 1.0], [sx * sy, 1.0, 1.0, sy, sy, sy])
 }
+
+/// [`signs`] per kind of window point (2·[ghost ξ̂ node] + [ghost η̂ node]) in the row layout: per 4-wide
+/// vector k of a row, the signs of the values of outputs 2k, 2k + 1 and of their slopes.
+const SIGN_LANES: [[[f64; 4]; 3]; 4] = {
+    let mut lanes = [[[0.0; 4]; 3]; 4];
+    let mut g = 0;
+    while g < 4 {
+        let (sv, sd) = signs(g >> 1 == 1, g & 1 == 1);
+        let mut k = 0;
+        while k < 3 {
+            lanes[g][k] = [sv[2 * k], sv[2 * k + 1], sd[2 * k], sd[2 * k + 1]];
+            k += 1;
+        }
+        g += 1;
+    }
+    lanes
+};
 
 /// The Hermite weights along φ̂ of a window point, with its symmetry signs, for the lower and the upper row
 /// of a corner's pair in memory, per 4-wide vector k of a row: weights of the values of outputs 2k, 2k + 1
