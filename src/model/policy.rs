@@ -313,6 +313,7 @@ impl Evaluator {
     /// The contact ellipse of `geometry` at normal force `force` [N] (Hertz, docs/model.md §2, or the
     /// prescribed semi-axes), with the load exponent of its kind, and its peak pressure p0 [Pa] (bit for
     /// bit the exact solver's).
+    #[inline(always)]
     fn contact(&self, geometry: &Geometry, force: f64) -> Result<(Ellipse, f64)> {
         let shape = if *geometry == self.model.params().geometry {
             self.model_shape
@@ -333,6 +334,7 @@ impl Evaluator {
     }
 
     /// Which way a point of the solved frame with `geometry` goes, and the notice about it.
+    #[inline(always)]
     fn route(
         &self,
         point: &OperatingPoint,
@@ -354,7 +356,9 @@ impl Evaluator {
             };
         }
         let (e, p0) = self.contact(geometry, point.normal_force)?;
-        if !table.covers(&e, point.normal_force) {
+        // the evaluation flags a point outside the ranges (and an invalid one is an error), as
+        // `Table::in_range` would: evaluating once is half the cost of asking first
+        let Some(output) = table.evaluate_covered(point, &e) else {
             return match self.mode {
                 Mode::TableOnly => Err(table.outside_geometry(&e, point.normal_force)),
                 _ => Ok((
@@ -362,10 +366,7 @@ impl Evaluator {
                     Some(Notice::FellBack(Fallback::OtherGeometry)),
                 )),
             };
-        }
-        // the evaluation flags a point outside the ranges (and an invalid one is an error), as
-        // `Table::in_range` would: evaluating once is half the cost of asking first
-        let output = table.evaluate(point, &e);
+        };
         let inside = output.as_ref().is_ok_and(|o| o.in_range);
         match self.mode {
             Mode::TableOnly => Ok((
@@ -382,6 +383,7 @@ impl Evaluator {
 
     /// The caller's point in the solved frame, its route and notices (None: the wheel is lifted). A
     /// geometry other than the model's is validated.
+    #[inline(always)]
     fn prepare(&self, input: &OperatingPoint, geometry: &Geometry) -> Result<Prepared<'_>> {
         if input.normal_force <= self.policy.lift_off_load {
             return Ok(None);

@@ -431,8 +431,13 @@ impl Table {
     /// Whether the contact `e` at normal force `force` [N] lies inside the table's geometry axes (a/b and
     /// p_ref).
     pub fn covers(&self, e: &Ellipse, force: f64) -> bool {
-        let q = [e.a / e.b, coords::reference_pressure(e.a, e.b, force)];
-        q.iter()
+        self.covers_geometry(Coordinates::geometry(e, force))
+    }
+
+    /// Whether the geometry coordinates [a/b, p_ref] lie inside the table's geometry axes.
+    fn covers_geometry(&self, geometry: [f64; 2]) -> bool {
+        geometry
+            .iter()
             .zip(&self.interp[RATIO..])
             .all(|(x, a)| a.clamp(*x).1)
     }
@@ -475,7 +480,20 @@ impl Table {
     /// interpolation (no allocation). Invalid input (NaN, non-positive load, speed or semi-axes, …) is an
     /// error; a valid point outside the ranges is clamped (`in_range` false).
     pub fn evaluate(&self, point: &OperatingPoint, e: &Ellipse) -> Result<TableOutput> {
-        self.dispatch::<false>(point, e).map(|(o, _)| o)
+        let geometry = Coordinates::geometry(e, point.normal_force);
+        self.dispatch::<false>(point, e, geometry).map(|(o, _)| o)
+    }
+
+    /// [`Table::evaluate`] where the table covers the contact `e` at the point's normal force, None where
+    /// it does not ([`Table::covers`]): the contact's geometry coordinates are computed once for both.
+    pub fn evaluate_covered(
+        &self,
+        point: &OperatingPoint,
+        e: &Ellipse,
+    ) -> Option<Result<TableOutput>> {
+        let geometry = Coordinates::geometry(e, point.normal_force);
+        self.covers_geometry(geometry)
+            .then(|| self.dispatch::<false>(point, e, geometry).map(|(o, _)| o))
     }
 
     /// [`Table::evaluate`] plus the Jacobian of the interpolant.
@@ -484,7 +502,8 @@ impl Table {
         point: &OperatingPoint,
         e: &Ellipse,
     ) -> Result<(TableOutput, Jacobian)> {
-        self.dispatch::<true>(point, e)
+        let geometry = Coordinates::geometry(e, point.normal_force);
+        self.dispatch::<true>(point, e, geometry)
     }
 
     /// The kernel the evaluations run with.
@@ -510,15 +529,16 @@ impl Table {
         &self,
         point: &OperatingPoint,
         e: &Ellipse,
+        geometry: [f64; 2],
     ) -> Result<(TableOutput, Jacobian)> {
         match self.kernel {
-            Kernel::Portable => self.eval::<JAC, false>(point, e),
+            Kernel::Portable => self.eval::<JAC, false>(point, e, geometry),
             // SAFETY: a table holds a vector kernel only if the CPU has its instructions
             // (`Kernel::supported`, checked by `detect` and `set_kernel`)
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx2Fma => unsafe { self.eval_avx2::<JAC>(point, e) },
+            Kernel::Avx2Fma => unsafe { self.eval_avx2::<JAC>(point, e, geometry) },
             #[cfg(not(target_arch = "x86_64"))]
-            _ => self.eval::<JAC, false>(point, e),
+            _ => self.eval::<JAC, false>(point, e, geometry),
         }
     }
 
@@ -528,15 +548,19 @@ impl Table {
         &self,
         point: &OperatingPoint,
         e: &Ellipse,
+        geometry: [f64; 2],
     ) -> Result<(TableOutput, Jacobian)> {
-        self.eval::<JAC, true>(point, e)
+        self.eval::<JAC, true>(point, e, geometry)
     }
 
+    /// The evaluation of `point` with contact `e`, whose geometry coordinates are `geometry`
+    /// ([`Coordinates::geometry`]).
     #[inline(always)]
     fn eval<const JAC: bool, const FMA: bool>(
         &self,
         point: &OperatingPoint,
         e: &Ellipse,
+        geometry: [f64; 2],
     ) -> Result<(TableOutput, Jacobian)> {
         point.validate()?;
         if !(e.a > 0.0 && e.b > 0.0 && e.a.is_finite() && e.b.is_finite()) {
@@ -546,7 +570,7 @@ impl Table {
                 "finite and > 0 m",
             ));
         }
-        let (signed, m) = self.coordinates.of(point, e)?;
+        let (signed, m) = self.coordinates.of_geometry(point, e, geometry)?;
         let mut q = signed;
         // bring the point into the stored quadrant ξ ≥ 0 (if mirrored), η ≥ 0
         let mx = q[XI] < 0.0 && self.axes.0[XI].mirrored;
@@ -667,19 +691,10 @@ impl Table {
         let lower = |fy: bool| if fy { n_phi - 2 - k0 } else { k0 } as usize;
         // the Hermite weights along φ̂ with the symmetry signs folded in (exact: the signs are ±1), per kind
         // of window point (2·[ghost ξ̂ node] + [ghost η̂ node])
+        // the Hermite weights of node k0 and k0 + 1 per lane of a row vector ([value, value, slope, slope]),
+        // for the lower and the upper row in memory: reversed on a ghost η̂ node (index 1)
         let ends = [[hw[0], hw[0], hw[1], hw[1]], [hw[2], hw[2], hw[3], hw[3]]];
-        let mut hermite = [[[[0.0; 4]; 3]; 2]; 4];
-        for (g, hg) in hermite.iter_mut().enumerate() {
-            for (m, hm) in hg.iter_mut().enumerate() {
-                // the lower row in memory is node k0, the upper k0 + 1; reversed on a ghost η̂ node
-                let e = if g & 1 == 1 { 1 - m } else { m };
-                for (k, hk) in hm.iter_mut().enumerate() {
-                    for (l, h) in hk.iter_mut().enumerate() {
-                        *h = ends[e][l] * SIGN_LANES[g][k][l];
-                    }
-                }
-            }
-        }
+        let hermite = [ends, [ends[1], ends[0]]];
         // stages 0 and 1: values [j][i·OUTPUTS + o] after φ (the layout of the η stage's lanes), with
         // derivatives [i][j][o][F_N, V, w, a/b, p_ref, φ]
         let mut c1 = [[0.0; 4 * OUTPUTS]; 4];
@@ -721,7 +736,10 @@ impl Table {
                 let (jj, fy) = (gj.unsigned_abs(), gj < 0);
                 let base = ii * st[XI] + jj * st[ETA] + lower(fy);
                 let mut pair = [0.0; 2 * ROW];
-                let h = &hermite[2 * usize::from(fx) + usize::from(fy)];
+                let h = Hermite {
+                    ends: &hermite[usize::from(fy)],
+                    signs: &SIGN_LANES[2 * usize::from(fx) + usize::from(fy)],
+                };
                 let v = corner_sum::<FMA, JAC>(rows, base, off, max_off, wl, h, &mut pair);
                 c1j[i * OUTPUTS..(i + 1) * OUTPUTS].copy_from_slice(&v);
                 if JAC {
@@ -828,18 +846,26 @@ const SIGN_LANES: [[[f64; 4]; 3]; 4] = {
     lanes
 };
 
-/// The Hermite weights along φ̂ of a window point, with its symmetry signs, for the lower and the upper row
-/// of a corner's pair in memory, per 4-wide vector k of a row: weights of the values of outputs 2k, 2k + 1
-/// and of their slopes (the row layout `VAL`, `SLOPE`).
-type Hermite = [[[f64; 4]; 3]; 2];
+/// The Hermite weights along φ̂ of a window point: `ends`, per lane of a 4-wide vector of a row (values of
+/// two outputs, then their slopes, the row layout `VAL`, `SLOPE`), for the lower and the upper row of a
+/// corner's pair in memory; and the point's symmetry signs per vector k of a row ([`SIGN_LANES`]). The
+/// weight of a lane is their product (exact: the signs are ±1).
+#[derive(Clone, Copy)]
+struct Hermite<'a> {
+    ends: &'a [[f64; 4]; 2],
+    signs: &'a [[f64; 4]; 3],
+}
 
 /// The Hermite stage of one window point from the corner sums of its row pair (`pair`: lower row, upper
 /// row): per output o, (value and slope terms of lane o) summed as the vector kernel sums them.
 #[inline(always)]
-fn hermite_of(pair: &[f64; 2 * ROW], h: &Hermite) -> [f64; OUTPUTS] {
+fn hermite_of(pair: &[f64; 2 * ROW], h: Hermite) -> [f64; OUTPUTS] {
     std::array::from_fn(|o| {
         let (k, l) = (o / 2, o % 2);
-        let lane = |l: usize| h[0][k][l] * pair[4 * k + l] + h[1][k][l] * pair[ROW + 4 * k + l];
+        let lane = |l: usize| {
+            let s = h.signs[k][l];
+            h.ends[0][l] * s * pair[4 * k + l] + h.ends[1][l] * s * pair[ROW + 4 * k + l]
+        };
         lane(l) + lane(l + 2)
     })
 }
@@ -857,7 +883,7 @@ fn corner_sum<const FMA: bool, const PAIR: bool>(
     off: &[usize],
     max_off: usize,
     w: &[f64],
-    h: &Hermite,
+    h: Hermite,
     pair: &mut [f64; 2 * ROW],
 ) -> [f64; OUTPUTS] {
     let n = off.len().min(w.len());
@@ -897,7 +923,7 @@ unsafe fn corner_sum_avx2<const PAIR: bool>(
     base: usize,
     off: &[usize],
     w: &[f64],
-    h: &Hermite,
+    h: Hermite,
     pair: &mut [f64; 2 * ROW],
 ) -> [f64; OUTPUTS] {
     use std::arch::x86_64::{
@@ -929,11 +955,19 @@ unsafe fn corner_sum_avx2<const PAIR: bool>(
         }
     }
     let mut out = [0.0; OUTPUTS];
+    // SAFETY: the weights are 4 values each
+    let (lo, hi) = unsafe {
+        (
+            _mm256_loadu_pd(h.ends[0].as_ptr()),
+            _mm256_loadu_pd(h.ends[1].as_ptr()),
+        )
+    };
     for k in 0..3 {
-        // SAFETY: the weights are 4 values each; `out` holds 6 values, the store writes 2k..2k + 2
+        // SAFETY: the signs are 4 values each; `out` holds 6 values, the store writes 2k..2k + 2
         unsafe {
-            let t = _mm256_mul_pd(v[k], _mm256_loadu_pd(h[0][k].as_ptr()));
-            let t = _mm256_fmadd_pd(v[k + 3], _mm256_loadu_pd(h[1][k].as_ptr()), t);
+            let s = _mm256_loadu_pd(h.signs[k].as_ptr());
+            let t = _mm256_mul_pd(v[k], _mm256_mul_pd(lo, s));
+            let t = _mm256_fmadd_pd(v[k + 3], _mm256_mul_pd(hi, s), t);
             let s = _mm_add_pd(_mm256_castpd256_pd128(t), _mm256_extractf128_pd::<1>(t));
             _mm_storeu_pd(out.as_mut_ptr().add(2 * k), s);
         }
