@@ -534,7 +534,7 @@ impl AxisInterp {
     }
 
     /// The interval and fraction of `x` (inside the stored range) on a linear axis.
-    #[inline]
+    #[inline(always)]
     pub fn fraction(&self, x: f64) -> Fraction {
         if self.points.len() == 1 {
             return Fraction::default();
@@ -548,7 +548,7 @@ impl AxisInterp {
     }
 
     /// The cubic window at `x` (inside the stored range) of a cubic axis.
-    #[inline]
+    #[inline(always)]
     pub fn cubic(&self, x: f64) -> CubicStencil {
         let (i, t) = self.locate(x);
         let c = &self.cubic[i];
