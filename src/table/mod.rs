@@ -689,8 +689,6 @@ impl Table {
         // the lower φ̂ node of the interval at a window point: k0, or on a ghost η̂ node (φ̂ reversed) the
         // mirror image of k0 + 1, n_φ − 2 − k0, so that the φ̂ ends run backwards
         let lower = |fy: bool| if fy { n_phi - 2 - k0 } else { k0 } as usize;
-        // the Hermite weights along φ̂ with the symmetry signs folded in (exact: the signs are ±1), per kind
-        // of window point (2·[ghost ξ̂ node] + [ghost η̂ node])
         // the Hermite weights of node k0 and k0 + 1 per lane of a row vector ([value, value, slope, slope]),
         // for the lower and the upper row in memory: reversed on a ghost η̂ node (index 1)
         let ends = [[hw[0], hw[0], hw[1], hw[1]], [hw[2], hw[2], hw[3], hw[3]]];
