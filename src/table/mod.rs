@@ -30,7 +30,7 @@ use crate::error::{Error, Result};
 use crate::params::{OperatingPoint, Params};
 use crate::solver::{GlobalResults, Solution, SolverReport};
 use axes::{ETA, FORCE, LINEAR_DIMS, PHI, PRESSURE, RATIO, XI};
-use interp::{AxisInterp, CORNERS, Corners, Offsets};
+use interp::{AxisInterp, CORNERS, Corners, Fraction, Offsets};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock, Weak};
@@ -592,7 +592,10 @@ impl Table {
         let sy = if my { -1.0 } else { 1.0 };
         let out_sign = [sx, sy, sy, 1.0, 1.0, 1.0];
         let in_sign = [sx, sy, sy, 1.0, 1.0, 1.0, 1.0, 1.0];
-        let g: [f64; OUTPUTS] = std::array::from_fn(|o| out_sign[o] * core.v[o]);
+        let mut g = [0.0; OUTPUTS];
+        for (o, x) in g.iter_mut().enumerate() {
+            *x = out_sign[o] * core.v[o];
+        }
         let f = point.normal_force;
         let c = e.radius();
         let out = TableOutput {
@@ -671,12 +674,17 @@ impl Table {
         let cx = self.interp[XI].cubic(q[XI]);
         let cy = self.interp[ETA].cubic(q[ETA]);
         let (k0, hw, hdw) = self.interp[PHI].cubic(q[PHI]).hermite();
-        let fractions = std::array::from_fn(|k| self.interp[FORCE + k].fraction(q[FORCE + k]));
+        // (loops, not `array::from_fn`, whose closures stay calls outside this kernel's instruction set)
+        let mut fractions = [Fraction::default(); L];
+        let mut linear_strides = [0; L];
         let st = &self.strides;
+        for k in 0..L {
+            fractions[k] = self.interp[FORCE + k].fraction(q[FORCE + k]);
+            linear_strides[k] = st[FORCE + k];
+        }
         let n_phi = self.axes.0[PHI].points.len() as isize;
         // the linear corners' row offsets from the creepage node and weights (with the Jacobian, also the
         // weights' derivatives)
-        let linear_strides = std::array::from_fn(|k| st[FORCE + k]);
         let stencil = Offsets::of(&fractions, &linear_strides);
         let dl = if JAC {
             Corners::of(&fractions).dw
