@@ -218,16 +218,17 @@ impl Evaluation {
 }
 
 /// How one point is evaluated.
-enum Route<'a> {
+enum Route {
     /// By the exact solver.
     Exact,
-    /// By this table (possibly clamped), with the point's contact ellipse, its peak pressure [Pa] and the
-    /// table's evaluation of the point (made to route it: its `in_range` is [`Table::in_range`]).
-    Table(&'a Table, Ellipse, f64, Result<TableOutput>),
+    /// By the table (possibly clamped), with the point's contact ellipse, its peak pressure [Pa] and the
+    /// table's evaluation of the point (made to route it: its `in_range` is [`Table::in_range`]), with the
+    /// Jacobian if the route was asked for it.
+    Table(Ellipse, f64, Result<(TableOutput, Jacobian)>),
 }
 
 /// The point of a caller in the solved frame, its route and the notices so far (None: wheel lifted).
-type Prepared<'a> = Option<(Solved, Route<'a>, Notices)>;
+type Prepared = Option<(Solved, Route, Notices)>;
 
 /// The evaluation policy for one model: mode, lookup table and settings.
 #[derive(Debug, Clone)]
@@ -335,11 +336,11 @@ impl Evaluator {
 
     /// Which way a point of the solved frame with `geometry` goes, and the notice about it.
     #[inline(always)]
-    fn route(
+    fn route<const JAC: bool>(
         &self,
         point: &OperatingPoint,
         geometry: &Geometry,
-    ) -> Result<(Route<'_>, Option<Notice>)> {
+    ) -> Result<(Route, Option<Notice>)> {
         let Some(table) = self.table.as_deref() else {
             return Ok((Route::Exact, None));
         };
@@ -358,7 +359,15 @@ impl Evaluator {
         let (e, p0) = self.contact(geometry, point.normal_force)?;
         // the evaluation flags a point outside the ranges (and an invalid one is an error), as
         // `Table::in_range` would: evaluating once is half the cost of asking first
-        let Some(output) = table.evaluate_covered(point, &e) else {
+        let covered = if JAC {
+            table.evaluate_covered_with_jacobian(point, &e)
+        } else {
+            // no Jacobian asked for: an unused zero one
+            table
+                .evaluate_covered(point, &e)
+                .map(|o| o.map(|o| (o, Jacobian::default())))
+        };
+        let Some(output) = covered else {
             return match self.mode {
                 Mode::TableOnly => Err(table.outside_geometry(&e, point.normal_force)),
                 _ => Ok((
@@ -367,13 +376,13 @@ impl Evaluator {
                 )),
             };
         };
-        let inside = output.as_ref().is_ok_and(|o| o.in_range);
+        let inside = output.as_ref().is_ok_and(|(o, _)| o.in_range);
         match self.mode {
             Mode::TableOnly => Ok((
-                Route::Table(table, e, p0, output),
+                Route::Table(e, p0, output),
                 (!inside).then_some(Notice::Clamped),
             )),
-            _ if inside => Ok((Route::Table(table, e, p0, output), None)),
+            _ if inside => Ok((Route::Table(e, p0, output), None)),
             _ => Ok((
                 Route::Exact,
                 Some(Notice::FellBack(Fallback::OutsideRanges)),
@@ -384,7 +393,11 @@ impl Evaluator {
     /// The caller's point in the solved frame, its route and notices (None: the wheel is lifted). A
     /// geometry other than the model's is validated.
     #[inline(always)]
-    fn prepare(&self, input: &OperatingPoint, geometry: &Geometry) -> Result<Prepared<'_>> {
+    fn prepare<const JAC: bool>(
+        &self,
+        input: &OperatingPoint,
+        geometry: &Geometry,
+    ) -> Result<Prepared> {
         if input.normal_force <= self.policy.lift_off_load {
             return Ok(None);
         }
@@ -399,7 +412,7 @@ impl Evaluator {
                 used: solved.point.wetness,
             });
         }
-        let (route, notice) = self.route(&solved.point, geometry)?;
+        let (route, notice) = self.route::<JAC>(&solved.point, geometry)?;
         solved.check(input)?;
         notices.route = notice;
         Ok(Some((solved, route, notices)))
@@ -430,17 +443,17 @@ impl Evaluator {
         tolerance: Option<f64>,
         warm: &mut Option<WarmStart>,
     ) -> Result<Evaluation> {
-        let Some((solved, route, notices)) = self.prepare(input, geometry)? else {
+        let Some((solved, route, notices)) = self.prepare::<false>(input, geometry)? else {
             return Ok(self.lifted());
         };
         let (mut by, patch) = match route {
-            Route::Table(_, e, p0, output) => {
+            Route::Table(e, p0, output) => {
                 let patch = Patch {
                     semi_axis_a: e.a,
                     semi_axis_b: e.b,
                     peak_pressure: p0,
                 };
-                (Evaluated::Table(output?), patch)
+                (Evaluated::Table(output?.0), patch)
             }
             Route::Exact => {
                 let e = self.exact(&solved.point, geometry, tolerance, warm)?;
@@ -478,13 +491,13 @@ impl Evaluator {
         input: &OperatingPoint,
         geometry: &Geometry,
     ) -> Result<(Option<Jacobian>, Notices)> {
-        let Some((solved, route, notices)) = self.prepare(input, geometry)? else {
+        let Some((solved, route, notices)) = self.prepare::<true>(input, geometry)? else {
             return Ok((None, Notices::default()));
         };
-        let Route::Table(table, e, _, _) = route else {
+        let Route::Table(_, _, output) = route else {
             return Ok((None, notices));
         };
-        let (_, jac) = table.evaluate_with_jacobian(&solved.point, &e)?;
+        let (_, jac) = output?;
         Ok((Some(solved.jacobian_back(&jac)), notices))
     }
 

@@ -491,9 +491,27 @@ impl Table {
         point: &OperatingPoint,
         e: &Ellipse,
     ) -> Option<Result<TableOutput>> {
+        self.covered::<false>(point, e).map(|r| r.map(|(o, _)| o))
+    }
+
+    /// [`Table::evaluate_covered`] plus the Jacobian of the interpolant.
+    pub fn evaluate_covered_with_jacobian(
+        &self,
+        point: &OperatingPoint,
+        e: &Ellipse,
+    ) -> Option<Result<(TableOutput, Jacobian)>> {
+        self.covered::<true>(point, e)
+    }
+
+    /// The evaluation (with the Jacobian if `JAC`) where the table covers the contact `e`.
+    fn covered<const JAC: bool>(
+        &self,
+        point: &OperatingPoint,
+        e: &Ellipse,
+    ) -> Option<Result<(TableOutput, Jacobian)>> {
         let geometry = Coordinates::geometry(e, point.normal_force);
         self.covers_geometry(geometry)
-            .then(|| self.dispatch::<false>(point, e, geometry).map(|(o, _)| o))
+            .then(|| self.dispatch::<JAC>(point, e, geometry))
     }
 
     /// [`Table::evaluate`] plus the Jacobian of the interpolant.
