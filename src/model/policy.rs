@@ -217,15 +217,13 @@ impl Evaluation {
     }
 }
 
-/// How one point is evaluated.
-enum Route {
-    /// By the exact solver.
-    Exact,
-    /// By the table (possibly clamped), with the point's contact ellipse, its peak pressure [Pa] and the
-    /// table's evaluation of the point (made to route it: its `in_range` is [`Table::in_range`]), with the
-    /// Jacobian if the route was asked for it.
-    Table(Ellipse, f64, Result<(TableOutput, Jacobian)>),
-}
+/// A point evaluated by the table (possibly clamped): the point's contact ellipse, its peak pressure [Pa]
+/// and the table's evaluation of the point (made to route it: its `in_range` is [`Table::in_range`]), with
+/// the Jacobian if the route was asked for it.
+struct ByTable(Ellipse, f64, Result<(TableOutput, Jacobian)>);
+
+/// How one point is evaluated: by the table, or (None) by the exact solver.
+type Route = Option<ByTable>;
 
 /// The point of a caller in the solved frame, its route and the notices so far (None: wheel lifted).
 type Prepared = Option<(Solved, Route, Notices)>;
@@ -342,7 +340,7 @@ impl Evaluator {
         geometry: &Geometry,
     ) -> Result<(Route, Option<Notice>)> {
         let Some(table) = self.table.as_deref() else {
-            return Ok((Route::Exact, None));
+            return Ok((None, None));
         };
         if !self.table_params {
             return match self.mode {
@@ -350,10 +348,7 @@ impl Evaluator {
                     table,
                     self.model.with(geometry, None).params(),
                 )),
-                _ => Ok((
-                    Route::Exact,
-                    Some(Notice::FellBack(Fallback::OtherParameters)),
-                )),
+                _ => Ok((None, Some(Notice::FellBack(Fallback::OtherParameters)))),
             };
         }
         let (e, p0) = self.contact(geometry, point.normal_force)?;
@@ -370,23 +365,17 @@ impl Evaluator {
         let Some(output) = covered else {
             return match self.mode {
                 Mode::TableOnly => Err(table.outside_geometry(&e, point.normal_force)),
-                _ => Ok((
-                    Route::Exact,
-                    Some(Notice::FellBack(Fallback::OtherGeometry)),
-                )),
+                _ => Ok((None, Some(Notice::FellBack(Fallback::OtherGeometry)))),
             };
         };
         let inside = output.as_ref().is_ok_and(|(o, _)| o.in_range);
         match self.mode {
             Mode::TableOnly => Ok((
-                Route::Table(e, p0, output),
+                Some(ByTable(e, p0, output)),
                 (!inside).then_some(Notice::Clamped),
             )),
-            _ if inside => Ok((Route::Table(e, p0, output), None)),
-            _ => Ok((
-                Route::Exact,
-                Some(Notice::FellBack(Fallback::OutsideRanges)),
-            )),
+            _ if inside => Ok((Some(ByTable(e, p0, output)), None)),
+            _ => Ok((None, Some(Notice::FellBack(Fallback::OutsideRanges)))),
         }
     }
 
@@ -447,7 +436,7 @@ impl Evaluator {
             return Ok(self.lifted());
         };
         let (mut by, patch) = match route {
-            Route::Table(e, p0, output) => {
+            Some(ByTable(e, p0, output)) => {
                 let patch = Patch {
                     semi_axis_a: e.a,
                     semi_axis_b: e.b,
@@ -455,7 +444,7 @@ impl Evaluator {
                 };
                 (Evaluated::Table(output?.0), patch)
             }
-            Route::Exact => {
+            None => {
                 let e = self.exact(&solved.point, geometry, tolerance, warm)?;
                 let patch = Patch {
                     semi_axis_a: e.global.semi_axis_a,
@@ -494,7 +483,7 @@ impl Evaluator {
         let Some((solved, route, notices)) = self.prepare::<true>(input, geometry)? else {
             return Ok((None, Notices::default()));
         };
-        let Route::Table(_, _, output) = route else {
+        let Some(ByTable(_, _, output)) = route else {
             return Ok((None, notices));
         };
         let (_, jac) = output?;
