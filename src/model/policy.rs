@@ -218,15 +218,41 @@ impl Evaluation {
 }
 
 /// A point evaluated by the table (possibly clamped): the point's contact ellipse, its peak pressure [Pa]
-/// and the table's evaluation of the point (made to route it: its `in_range` is [`Table::in_range`]), with
-/// the Jacobian if the route was asked for it.
-struct ByTable(Ellipse, f64, Result<(TableOutput, Jacobian)>);
+/// and the table's evaluation of the point (made to route it: its `in_range` is [`Table::in_range`]).
+struct ByTable<O>(Ellipse, f64, Result<O>);
 
 /// How one point is evaluated: by the table, or (None) by the exact solver.
-type Route = Option<ByTable>;
+type Route<O> = Option<ByTable<O>>;
+
+/// A table evaluation made to route a point: the outputs alone, or with the Jacobian.
+trait Routed: Sized {
+    /// The table's evaluation of `point` with contact `e` where the table covers the contact, None where
+    /// it does not.
+    fn covered(table: &Table, point: &OperatingPoint, e: &Ellipse) -> Option<Result<Self>>;
+    /// The outputs.
+    fn outputs(&self) -> &TableOutput;
+}
+
+impl Routed for TableOutput {
+    fn covered(table: &Table, point: &OperatingPoint, e: &Ellipse) -> Option<Result<Self>> {
+        table.evaluate_covered(point, e)
+    }
+    fn outputs(&self) -> &TableOutput {
+        self
+    }
+}
+
+impl Routed for (TableOutput, Jacobian) {
+    fn covered(table: &Table, point: &OperatingPoint, e: &Ellipse) -> Option<Result<Self>> {
+        table.evaluate_covered_with_jacobian(point, e)
+    }
+    fn outputs(&self) -> &TableOutput {
+        &self.0
+    }
+}
 
 /// The point of a caller in the solved frame, its route and the notices so far (None: wheel lifted).
-type Prepared = Option<(Solved, Route, Notices)>;
+type Prepared<O> = Option<(Solved, Route<O>, Notices)>;
 
 /// The evaluation policy for one model: mode, lookup table and settings.
 #[derive(Debug, Clone)]
@@ -334,11 +360,11 @@ impl Evaluator {
 
     /// Which way a point of the solved frame with `geometry` goes, and the notice about it.
     #[inline(always)]
-    fn route<const JAC: bool>(
+    fn route<O: Routed>(
         &self,
         point: &OperatingPoint,
         geometry: &Geometry,
-    ) -> Result<(Route, Option<Notice>)> {
+    ) -> Result<(Route<O>, Option<Notice>)> {
         let Some(table) = self.table.as_deref() else {
             return Ok((None, None));
         };
@@ -354,21 +380,13 @@ impl Evaluator {
         let (e, p0) = self.contact(geometry, point.normal_force)?;
         // the evaluation flags a point outside the ranges (and an invalid one is an error), as
         // `Table::in_range` would: evaluating once is half the cost of asking first
-        let covered = if JAC {
-            table.evaluate_covered_with_jacobian(point, &e)
-        } else {
-            // no Jacobian asked for: an unused zero one
-            table
-                .evaluate_covered(point, &e)
-                .map(|o| o.map(|o| (o, Jacobian::default())))
-        };
-        let Some(output) = covered else {
+        let Some(output) = O::covered(table, point, &e) else {
             return match self.mode {
                 Mode::TableOnly => Err(table.outside_geometry(&e, point.normal_force)),
                 _ => Ok((None, Some(Notice::FellBack(Fallback::OtherGeometry)))),
             };
         };
-        let inside = output.as_ref().is_ok_and(|(o, _)| o.in_range);
+        let inside = output.as_ref().is_ok_and(|o| o.outputs().in_range);
         match self.mode {
             Mode::TableOnly => Ok((
                 Some(ByTable(e, p0, output)),
@@ -382,11 +400,11 @@ impl Evaluator {
     /// The caller's point in the solved frame, its route and notices (None: the wheel is lifted). A
     /// geometry other than the model's is validated.
     #[inline(always)]
-    fn prepare<const JAC: bool>(
+    fn prepare<O: Routed>(
         &self,
         input: &OperatingPoint,
         geometry: &Geometry,
-    ) -> Result<Prepared> {
+    ) -> Result<Prepared<O>> {
         if input.normal_force <= self.policy.lift_off_load {
             return Ok(None);
         }
@@ -401,7 +419,7 @@ impl Evaluator {
                 used: solved.point.wetness,
             });
         }
-        let (route, notice) = self.route::<JAC>(&solved.point, geometry)?;
+        let (route, notice) = self.route::<O>(&solved.point, geometry)?;
         solved.check(input)?;
         notices.route = notice;
         Ok(Some((solved, route, notices)))
@@ -432,7 +450,7 @@ impl Evaluator {
         tolerance: Option<f64>,
         warm: &mut Option<WarmStart>,
     ) -> Result<Evaluation> {
-        let Some((solved, route, notices)) = self.prepare::<false>(input, geometry)? else {
+        let Some((solved, route, notices)) = self.prepare::<TableOutput>(input, geometry)? else {
             return Ok(self.lifted());
         };
         let (mut by, patch) = match route {
@@ -442,7 +460,7 @@ impl Evaluator {
                     semi_axis_b: e.b,
                     peak_pressure: p0,
                 };
-                (Evaluated::Table(output?.0), patch)
+                (Evaluated::Table(output?), patch)
             }
             None => {
                 let e = self.exact(&solved.point, geometry, tolerance, warm)?;
@@ -480,7 +498,9 @@ impl Evaluator {
         input: &OperatingPoint,
         geometry: &Geometry,
     ) -> Result<(Option<Jacobian>, Notices)> {
-        let Some((solved, route, notices)) = self.prepare::<true>(input, geometry)? else {
+        let Some((solved, route, notices)) =
+            self.prepare::<(TableOutput, Jacobian)>(input, geometry)?
+        else {
             return Ok((None, Notices::default()));
         };
         let Some(ByTable(_, _, output)) = route else {
