@@ -217,16 +217,42 @@ impl Evaluation {
     }
 }
 
-/// How one point is evaluated.
-enum Route<'a> {
-    /// By the exact solver.
-    Exact,
-    /// By this table (possibly clamped), with the point's contact ellipse and its peak pressure [Pa].
-    Table(&'a Table, Ellipse, f64),
+/// A point evaluated by the table (possibly clamped): the point's contact ellipse, its peak pressure [Pa]
+/// and the table's evaluation of the point (made to route it: its `in_range` is [`Table::in_range`]).
+struct ByTable<O>(Ellipse, f64, Result<O>);
+
+/// How one point is evaluated: by the table, or (None) by the exact solver.
+type Route<O> = Option<ByTable<O>>;
+
+/// A table evaluation made to route a point: the outputs alone, or with the Jacobian.
+trait Routed: Sized {
+    /// The table's evaluation of `point` with contact `e` where the table covers the contact, None where
+    /// it does not.
+    fn covered(table: &Table, point: &OperatingPoint, e: &Ellipse) -> Option<Result<Self>>;
+    /// The outputs.
+    fn outputs(&self) -> &TableOutput;
+}
+
+impl Routed for TableOutput {
+    fn covered(table: &Table, point: &OperatingPoint, e: &Ellipse) -> Option<Result<Self>> {
+        table.evaluate_covered(point, e)
+    }
+    fn outputs(&self) -> &TableOutput {
+        self
+    }
+}
+
+impl Routed for (TableOutput, Jacobian) {
+    fn covered(table: &Table, point: &OperatingPoint, e: &Ellipse) -> Option<Result<Self>> {
+        table.evaluate_covered_with_jacobian(point, e)
+    }
+    fn outputs(&self) -> &TableOutput {
+        &self.0
+    }
 }
 
 /// The point of a caller in the solved frame, its route and the notices so far (None: wheel lifted).
-type Prepared<'a> = Option<(Solved, Route<'a>, Notices)>;
+type Prepared<O> = Option<(Solved, Route<O>, Notices)>;
 
 /// The evaluation policy for one model: mode, lookup table and settings.
 #[derive(Debug, Clone)]
@@ -312,6 +338,7 @@ impl Evaluator {
     /// The contact ellipse of `geometry` at normal force `force` [N] (Hertz, docs/model.md §2, or the
     /// prescribed semi-axes), with the load exponent of its kind, and its peak pressure p0 [Pa] (bit for
     /// bit the exact solver's).
+    #[inline(always)]
     fn contact(&self, geometry: &Geometry, force: f64) -> Result<(Ellipse, f64)> {
         let shape = if *geometry == self.model.params().geometry {
             self.model_shape
@@ -332,13 +359,14 @@ impl Evaluator {
     }
 
     /// Which way a point of the solved frame with `geometry` goes, and the notice about it.
-    fn route(
+    #[inline(always)]
+    fn route<O: Routed>(
         &self,
         point: &OperatingPoint,
         geometry: &Geometry,
-    ) -> Result<(Route<'_>, Option<Notice>)> {
+    ) -> Result<(Route<O>, Option<Notice>)> {
         let Some(table) = self.table.as_deref() else {
-            return Ok((Route::Exact, None));
+            return Ok((None, None));
         };
         if !self.table_params {
             return match self.mode {
@@ -346,39 +374,37 @@ impl Evaluator {
                     table,
                     self.model.with(geometry, None).params(),
                 )),
-                _ => Ok((
-                    Route::Exact,
-                    Some(Notice::FellBack(Fallback::OtherParameters)),
-                )),
+                _ => Ok((None, Some(Notice::FellBack(Fallback::OtherParameters)))),
             };
         }
         let (e, p0) = self.contact(geometry, point.normal_force)?;
-        if !table.covers(&e, point.normal_force) {
+        // the evaluation flags a point outside the ranges (and an invalid one is an error), as
+        // `Table::in_range` would: evaluating once is half the cost of asking first
+        let Some(output) = O::covered(table, point, &e) else {
             return match self.mode {
                 Mode::TableOnly => Err(table.outside_geometry(&e, point.normal_force)),
-                _ => Ok((
-                    Route::Exact,
-                    Some(Notice::FellBack(Fallback::OtherGeometry)),
-                )),
+                _ => Ok((None, Some(Notice::FellBack(Fallback::OtherGeometry)))),
             };
-        }
-        let inside = table.in_range(point, &e);
+        };
+        let inside = output.as_ref().is_ok_and(|o| o.outputs().in_range);
         match self.mode {
             Mode::TableOnly => Ok((
-                Route::Table(table, e, p0),
+                Some(ByTable(e, p0, output)),
                 (!inside).then_some(Notice::Clamped),
             )),
-            _ if inside => Ok((Route::Table(table, e, p0), None)),
-            _ => Ok((
-                Route::Exact,
-                Some(Notice::FellBack(Fallback::OutsideRanges)),
-            )),
+            _ if inside => Ok((Some(ByTable(e, p0, output)), None)),
+            _ => Ok((None, Some(Notice::FellBack(Fallback::OutsideRanges)))),
         }
     }
 
     /// The caller's point in the solved frame, its route and notices (None: the wheel is lifted). A
     /// geometry other than the model's is validated.
-    fn prepare(&self, input: &OperatingPoint, geometry: &Geometry) -> Result<Prepared<'_>> {
+    #[inline(always)]
+    fn prepare<O: Routed>(
+        &self,
+        input: &OperatingPoint,
+        geometry: &Geometry,
+    ) -> Result<Prepared<O>> {
         if input.normal_force <= self.policy.lift_off_load {
             return Ok(None);
         }
@@ -393,7 +419,7 @@ impl Evaluator {
                 used: solved.point.wetness,
             });
         }
-        let (route, notice) = self.route(&solved.point, geometry)?;
+        let (route, notice) = self.route::<O>(&solved.point, geometry)?;
         solved.check(input)?;
         notices.route = notice;
         Ok(Some((solved, route, notices)))
@@ -424,19 +450,19 @@ impl Evaluator {
         tolerance: Option<f64>,
         warm: &mut Option<WarmStart>,
     ) -> Result<Evaluation> {
-        let Some((solved, route, notices)) = self.prepare(input, geometry)? else {
+        let Some((solved, route, notices)) = self.prepare::<TableOutput>(input, geometry)? else {
             return Ok(self.lifted());
         };
         let (mut by, patch) = match route {
-            Route::Table(t, e, p0) => {
+            Some(ByTable(e, p0, output)) => {
                 let patch = Patch {
                     semi_axis_a: e.a,
                     semi_axis_b: e.b,
                     peak_pressure: p0,
                 };
-                (Evaluated::Table(t.evaluate(&solved.point, &e)?), patch)
+                (Evaluated::Table(output?), patch)
             }
-            Route::Exact => {
+            None => {
                 let e = self.exact(&solved.point, geometry, tolerance, warm)?;
                 let patch = Patch {
                     semi_axis_a: e.global.semi_axis_a,
@@ -472,13 +498,15 @@ impl Evaluator {
         input: &OperatingPoint,
         geometry: &Geometry,
     ) -> Result<(Option<Jacobian>, Notices)> {
-        let Some((solved, route, notices)) = self.prepare(input, geometry)? else {
+        let Some((solved, route, notices)) =
+            self.prepare::<(TableOutput, Jacobian)>(input, geometry)?
+        else {
             return Ok((None, Notices::default()));
         };
-        let Route::Table(table, e, _) = route else {
+        let Some(ByTable(_, _, output)) = route else {
             return Ok((None, notices));
         };
-        let (_, jac) = table.evaluate_with_jacobian(&solved.point, &e)?;
+        let (_, jac) = output?;
         Ok((Some(solved.jacobian_back(&jac)), notices))
     }
 

@@ -189,9 +189,27 @@ impl Coordinates {
         Ok([gc2 * k.c11, gc2 * k.c22, gc2 * c * k.c23])
     }
 
+    /// The geometry coordinates [a/b, p_ref] of contact `e` at normal force `force` [N].
+    #[inline]
+    pub fn geometry(e: &Ellipse, force: f64) -> [f64; 2] {
+        [e.a / e.b, reference_pressure(e.a, e.b, force)]
+    }
+
     /// The table coordinates (ξ̂, η̂, φ̂, F_N, V, w, a/b, p_ref) of `point` with contact `e`, and the creepage
     /// coordinates with their slopes.
     pub fn of(&self, point: &OperatingPoint, e: &Ellipse) -> Result<([f64; DIMS], [Mapped; 3])> {
+        self.of_geometry(point, e, Self::geometry(e, point.normal_force))
+    }
+
+    /// [`Coordinates::of`] with the contact's geometry coordinates `geometry` already computed
+    /// ([`Coordinates::geometry`]).
+    #[inline]
+    pub fn of_geometry(
+        &self,
+        point: &OperatingPoint,
+        e: &Ellipse,
+        geometry: [f64; 2],
+    ) -> Result<([f64; DIMS], [Mapped; 3])> {
         let k = self.scales(e, point.normal_force)?;
         let m = [
             self.map(0, point.creepage_x, k[0]),
@@ -206,8 +224,8 @@ impl Coordinates {
                 point.normal_force,
                 point.speed,
                 point.wetness,
-                e.a / e.b,
-                reference_pressure(e.a, e.b, point.normal_force),
+                geometry[0],
+                geometry[1],
             ],
             m,
         ))

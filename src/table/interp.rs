@@ -81,29 +81,102 @@ fn stepping<const N: usize>(dims: [usize; N], f: &[Fraction; LINEAR_DIMS]) -> ([
     (out, k)
 }
 
+/// Number of simplex corners: the simplicial dimensions plus one.
+const SIMPLEX: usize = SIMPLICIAL.len() + 1;
+
+/// The simplicial dimensions with more than one point, by descending fraction (ties keep the dimension
+/// order), and their number.
+#[inline(always)]
+fn simplex_order(f: &[Fraction; LINEAR_DIMS]) -> ([usize; SIMPLICIAL.len()], usize) {
+    let (mut order, k_s) = stepping(SIMPLICIAL, f);
+    for i in 1..k_s {
+        let mut j = i;
+        while j > 0 && f[order[j - 1]].t < f[order[j]].t {
+            order.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+    (order, k_s)
+}
+
+/// The weights of the simplex corners: 1 − t_(o0), t_(o0) − t_(o1), …, t_(o(k−1)) (the first `k_s` + 1).
+#[inline(always)]
+fn simplex_weights(
+    f: &[Fraction; LINEAR_DIMS],
+    order: &[usize; SIMPLICIAL.len()],
+    k_s: usize,
+) -> [f64; SIMPLEX] {
+    let mut ws = [0.0; SIMPLEX];
+    ws[0] = if k_s > 0 { 1.0 - f[order[0]].t } else { 1.0 };
+    for k in 0..k_s {
+        let next = if k + 1 < k_s { f[order[k + 1]].t } else { 0.0 };
+        ws[k + 1] = f[order[k]].t - next;
+    }
+    ws
+}
+
+/// The corners of the linear stencil as row offsets, for evaluations without derivatives: per corner (in
+/// the order of [`Corners::of`]) Σ_d (start_d + step_d)·stride_d and its weight, for the first `n`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Offsets {
+    /// Number of corners.
+    pub n: usize,
+    /// Row offset of each corner.
+    pub off: [usize; CORNERS],
+    /// Corner weights (≥ 0, sum 1), those of [`Corners::of`].
+    pub w: [f64; CORNERS],
+}
+
+impl Offsets {
+    /// The corners of the stencil of the fractions `f` as offsets in rows of the given `strides` along the
+    /// linear dimensions.
+    #[inline(always)]
+    pub fn of(f: &[Fraction; LINEAR_DIMS], strides: &[usize; LINEAR_DIMS]) -> Offsets {
+        let (order, k_s) = simplex_order(f);
+        let ws = simplex_weights(f, &order, k_s);
+        let mut s_off = [0usize; SIMPLEX];
+        for k in 0..k_s {
+            s_off[k + 1] = s_off[k] + strides[order[k]];
+        }
+        let (multi, k_m) = stepping(MULTILINEAR, f);
+        let start: usize = (0..LINEAR_DIMS).map(|d| f[d].start * strides[d]).sum();
+        let mut c = Offsets {
+            n: (1 << k_m) * (k_s + 1),
+            off: [0; CORNERS],
+            w: [0.0; CORNERS],
+        };
+        // the multilinear corners (bit b of m: one node further along multi[b]) times the simplex's
+        for m in 0..(1 << k_m) {
+            let (mut wm, mut o) = (1.0, start);
+            for (b, &d) in multi[..k_m].iter().enumerate() {
+                if (m >> b) & 1 == 1 {
+                    wm *= f[d].t;
+                    o += strides[d];
+                } else {
+                    wm *= 1.0 - f[d].t;
+                }
+            }
+            for k in 0..=k_s {
+                let i = m * (k_s + 1) + k;
+                c.off[i] = o + s_off[k];
+                c.w[i] = wm * ws[k];
+            }
+        }
+        c
+    }
+}
+
 impl Corners {
     /// The stencil of the fractions `f` of the linear coordinates (simplex ties keep the dimension order,
     /// so the result is deterministic).
     #[inline(always)]
     pub fn of(f: &[Fraction; LINEAR_DIMS]) -> Corners {
-        const S: usize = SIMPLICIAL.len() + 1;
-        // the simplex over the axes with more than one point, by descending fraction
-        let (mut order, k_s) = stepping(SIMPLICIAL, f);
-        for i in 1..k_s {
-            let mut j = i;
-            while j > 0 && f[order[j - 1]].t < f[order[j]].t {
-                order.swap(j - 1, j);
-                j -= 1;
-            }
-        }
-        let mut ws = [0.0; S];
-        let mut dws = [[0.0; S]; LINEAR_DIMS];
-        let mut steps_s = [[0usize; LINEAR_DIMS]; S];
-        ws[0] = if k_s > 0 { 1.0 - f[order[0]].t } else { 1.0 };
+        let (order, k_s) = simplex_order(f);
+        let ws = simplex_weights(f, &order, k_s);
+        let mut dws = [[0.0; SIMPLEX]; LINEAR_DIMS];
+        let mut steps_s = [[0usize; LINEAR_DIMS]; SIMPLEX];
         for k in 0..k_s {
             let d = order[k];
-            let next = if k + 1 < k_s { f[order[k + 1]].t } else { 0.0 };
-            ws[k + 1] = f[d].t - next;
             dws[d][k] = -f[d].inv_h;
             dws[d][k + 1] = f[d].inv_h;
             steps_s[k + 1] = steps_s[k];
@@ -469,7 +542,7 @@ impl AxisInterp {
     }
 
     /// The interval and fraction of `x` (inside the stored range) on a linear axis.
-    #[inline]
+    #[inline(always)]
     pub fn fraction(&self, x: f64) -> Fraction {
         if self.points.len() == 1 {
             return Fraction::default();
@@ -491,7 +564,7 @@ impl AxisInterp {
     }
 
     /// The cubic window at `x` (inside the stored range) of a cubic axis.
-    #[inline]
+    #[inline(always)]
     pub fn cubic(&self, x: f64) -> CubicStencil {
         let (i, t) = self.locate(x);
         let c = &self.cubic[i];
@@ -709,6 +782,43 @@ mod tests {
         assert_eq!(one.clamp(7e8 * (1.0 + 1e-12)), (7e8, true));
         assert_eq!(one.clamp(7.1e8), (7e8, false));
         assert_eq!(one.fraction(7e8), Fraction::default());
+    }
+
+    /// The offsets and weights of [`Offsets::of`] are those of [`Corners::of`]'s corners, in its order.
+    #[test]
+    fn offsets_are_the_corners_in_rows() {
+        let mut rng = super::super::verify::SplitMix64::new(7);
+        let strides = [1000, 200, 40, 8, 1];
+        for k in 0..500 {
+            let mut f: [Fraction; LINEAR_DIMS] = std::array::from_fn(|d| Fraction {
+                start: d + 1,
+                t: rng.uniform(),
+                inv_h: 1.0,
+            });
+            // single-point axes (a geometry axis, then also a multilinear one) and a tie
+            if k % 3 == 1 {
+                f[3] = Fraction::default();
+            }
+            if k % 5 == 2 {
+                f[2] = Fraction::default();
+            }
+            if k % 7 == 3 {
+                f[4].t = f[0].t;
+            }
+            let c = Corners::of(&f);
+            let o = Offsets::of(&f, &strides);
+            assert_eq!(o.n, c.n);
+            for i in 0..c.n {
+                let want: usize = (0..LINEAR_DIMS)
+                    .map(|d| (c.start[d] + c.step[i][d]) * strides[d])
+                    .sum();
+                assert_eq!(
+                    (o.off[i], o.w[i].to_bits()),
+                    (want, c.w[i].to_bits()),
+                    "{k} {i}"
+                );
+            }
+        }
     }
 
     /// The corner weights are a partition of unity, ≥ 0, interpolate data multilinear in (V, w) and affine

@@ -30,7 +30,7 @@ use crate::error::{Error, Result};
 use crate::params::{OperatingPoint, Params};
 use crate::solver::{GlobalResults, Solution, SolverReport};
 use axes::{ETA, FORCE, LINEAR_DIMS, PHI, PRESSURE, RATIO, XI};
-use interp::{AxisInterp, CORNERS, Corners};
+use interp::{AxisInterp, CORNERS, Corners, Fraction, Offsets};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock, Weak};
@@ -112,9 +112,20 @@ pub const PROBES: usize = 3;
 /// output (F_x/F_N, F_y/F_N, M_z/(F_N·c), T_max [K], fluid load fraction, P_f/(F_N·V)).
 pub const PROBE_TOLERANCE: [f64; OUTPUTS] = [1e-6, 1e-6, 1e-6, 1e-3, 1e-6, 1e-6];
 
-/// Values per stored point in memory (f32): the outputs and their slopes along φ (48 bytes: three 4-wide
-/// vectors).
+/// Values per stored point in memory: the outputs and their slopes along φ (three 4-wide vectors).
 const ROW: usize = 2 * OUTPUTS;
+
+/// One stored point in memory: the values at the positions `VAL` and `SLOPE`, in the stored precision,
+/// 16-byte aligned so that no 4-wide load crosses a cache line.
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(16))]
+struct Row([f32; ROW]);
+
+const _: () = assert!(std::mem::size_of::<Row>() == ROW * 4);
+
+/// Tables whose rows take more memory than this are prefetched during a lookup (a smaller table stays in
+/// the caches, where prefetches are pure overhead) [bytes].
+const PREFETCH_ABOVE: usize = 8 << 20;
 
 /// Positions in a row of output o's value and of its φ slope: values and slopes of outputs 0–1, 2–3 and 4–5
 /// alternate in pairs. So the pairs a 16-byte vector holds are both values or both slopes, which keeps the
@@ -173,13 +184,17 @@ pub struct Table {
     sidecar: Sidecar,
     axes: Axes,
     interp: [AxisInterp; DIMS],
-    /// Row strides of the dimensions in `rows`.
+    /// Row strides of the dimensions in `rows` and `converged` (memory order, see `rows`).
     strides: [usize; DIMS],
-    /// Per point, in C order over the axes: the outputs and their monotone slopes along φ (precomputed,
-    /// see `core`), at the positions `VAL` and `SLOPE`, in the stored precision.
-    rows: Vec<[f32; ROW]>,
+    /// Per point, the outputs and their monotone slopes along φ (precomputed, see `core`), in memory
+    /// order: C order over (ξ̂, η̂, F_N, V, w, a/b, p_ref, φ̂), φ̂ innermost, so that the two φ̂ ends of a
+    /// corner the lookup reads are adjacent.
+    rows: Vec<Row>,
+    /// Per point in memory order: whether it converged (1) when the table was built.
     converged: Vec<u8>,
     all_converged: bool,
+    /// Whether lookups prefetch the rows of the next ξ̂ window node (tables larger than `PREFETCH_ABOVE`).
+    prefetch: bool,
     bulk_temperature: f64,
     /// The table's coordinates of operating points.
     coordinates: Coordinates,
@@ -221,32 +236,30 @@ impl Table {
         {
             return Err(file::corrupt(where_, "array sizes do not match the axes"));
         }
-        let mut strides = [1usize; DIMS];
-        for d in (0..DIMS - 1).rev() {
-            strides[d] = strides[d + 1] * shape[d + 1];
+        let strides = memory_strides(&shape);
+        // the file's C order over the axes → memory order
+        let memory: Vec<usize> = (0..n).map(|i| memory_index(&shape, &strides, i)).collect();
+        let mut rows = vec![Row::default(); n];
+        let mut converged = vec![0; n];
+        for (i, m) in memory.iter().enumerate() {
+            for (o, v) in VAL.iter().enumerate() {
+                rows[*m].0[*v] = files.outputs[o][i];
+            }
+            converged[*m] = files.converged[i];
         }
-        let mut rows: Vec<[f32; ROW]> = (0..n)
-            .map(|i| {
-                let mut r = [0.0; ROW];
-                for (o, v) in VAL.iter().enumerate() {
-                    r[*v] = files.outputs[o][i];
-                }
-                r
-            })
-            .collect();
-        // Steffen slopes along φ of every fibre (fixed ξ̂, η̂, F_N, V, w, a/b, p_ref) and output, computed
-        // in f64 from the stored values
+        // Steffen slopes along φ of every fibre (fixed ξ̂, η̂, F_N, V, w, a/b, p_ref; contiguous in memory)
+        // and output, computed in f64 from the stored values and kept in the stored precision (f32)
         let phi = &axes.0[PHI].points;
-        let (np, sp) = (phi.len(), strides[PHI]);
+        let np = phi.len();
         let (mut y, mut d) = (vec![0.0; np], vec![0.0; np]);
-        for first in (0..n).filter(|i| (i / sp) % np == 0) {
+        for fibre in rows.chunks_exact_mut(np) {
             for o in 0..OUTPUTS {
-                for (k, v) in y.iter_mut().enumerate() {
-                    *v = f64::from(rows[first + k * sp][VAL[o]]);
+                for (v, r) in y.iter_mut().zip(fibre.iter()) {
+                    *v = f64::from(r.0[VAL[o]]);
                 }
                 interp::node_slopes(phi, &y, &mut d);
-                for (k, v) in d.iter().enumerate() {
-                    rows[first + k * sp][SLOPE[o]] = *v as f32;
+                for (v, r) in d.iter().zip(fibre.iter_mut()) {
+                    r.0[SLOPE[o]] = *v as f32;
                 }
             }
         }
@@ -256,8 +269,9 @@ impl Table {
             bulk_temperature: files.sidecar.params.material.bulk_temperature,
             coordinates: Coordinates::new(&files.sidecar.params, &axes),
             has_power: files.sidecar.format_version > 1,
-            all_converged: files.converged.iter().all(|c| *c == 1),
-            converged: files.converged,
+            all_converged: converged.iter().all(|c| *c == 1),
+            converged,
+            prefetch: n * std::mem::size_of::<Row>() > PREFETCH_ABOVE,
             sidecar: files.sidecar,
             axes,
             interp,
@@ -292,7 +306,7 @@ impl Table {
             .filter_map(|k| {
                 (k * cubes / PROBES..(k + 1) * cubes / PROBES)
                     .map(|t| node * cubes + t)
-                    .find(|&n| self.converged[n] == 1)
+                    .find(|&n| self.converged[memory_index(&shape, &self.strides, n)] == 1)
             })
             .collect()
     }
@@ -312,7 +326,7 @@ impl Table {
             params.geometry.semi_axes = Some([e.a, e.b]);
             let s = crate::solver::solve(&params, &point)?;
             let want = build::normalised(&s, &point, e.radius())?;
-            let stored = self.rows[n];
+            let stored = self.rows[memory_index(&self.axes.shape(), &self.strides, n)].0;
             let stale = (0..OUTPUTS).find(|&o| {
                 let (a, b) = (f64::from(want[o]), f64::from(stored[VAL[o]]));
                 // a format-1 table stores no frictional power (NaN)
@@ -417,8 +431,13 @@ impl Table {
     /// Whether the contact `e` at normal force `force` [N] lies inside the table's geometry axes (a/b and
     /// p_ref).
     pub fn covers(&self, e: &Ellipse, force: f64) -> bool {
-        let q = [e.a / e.b, coords::reference_pressure(e.a, e.b, force)];
-        q.iter()
+        self.covers_geometry(Coordinates::geometry(e, force))
+    }
+
+    /// Whether the geometry coordinates [a/b, p_ref] lie inside the table's geometry axes.
+    fn covers_geometry(&self, geometry: [f64; 2]) -> bool {
+        geometry
+            .iter()
             .zip(&self.interp[RATIO..])
             .all(|(x, a)| a.clamp(*x).1)
     }
@@ -461,7 +480,38 @@ impl Table {
     /// interpolation (no allocation). Invalid input (NaN, non-positive load, speed or semi-axes, …) is an
     /// error; a valid point outside the ranges is clamped (`in_range` false).
     pub fn evaluate(&self, point: &OperatingPoint, e: &Ellipse) -> Result<TableOutput> {
-        self.dispatch::<false>(point, e).map(|(o, _)| o)
+        let geometry = Coordinates::geometry(e, point.normal_force);
+        self.dispatch::<false>(point, e, geometry).map(|(o, _)| o)
+    }
+
+    /// [`Table::evaluate`] where the table covers the contact `e` at the point's normal force, None where
+    /// it does not ([`Table::covers`]): the contact's geometry coordinates are computed once for both.
+    pub fn evaluate_covered(
+        &self,
+        point: &OperatingPoint,
+        e: &Ellipse,
+    ) -> Option<Result<TableOutput>> {
+        self.covered::<false>(point, e).map(|r| r.map(|(o, _)| o))
+    }
+
+    /// [`Table::evaluate_covered`] plus the Jacobian of the interpolant.
+    pub fn evaluate_covered_with_jacobian(
+        &self,
+        point: &OperatingPoint,
+        e: &Ellipse,
+    ) -> Option<Result<(TableOutput, Jacobian)>> {
+        self.covered::<true>(point, e)
+    }
+
+    /// The evaluation (with the Jacobian if `JAC`) where the table covers the contact `e`.
+    fn covered<const JAC: bool>(
+        &self,
+        point: &OperatingPoint,
+        e: &Ellipse,
+    ) -> Option<Result<(TableOutput, Jacobian)>> {
+        let geometry = Coordinates::geometry(e, point.normal_force);
+        self.covers_geometry(geometry)
+            .then(|| self.dispatch::<JAC>(point, e, geometry))
     }
 
     /// [`Table::evaluate`] plus the Jacobian of the interpolant.
@@ -470,7 +520,8 @@ impl Table {
         point: &OperatingPoint,
         e: &Ellipse,
     ) -> Result<(TableOutput, Jacobian)> {
-        self.dispatch::<true>(point, e)
+        let geometry = Coordinates::geometry(e, point.normal_force);
+        self.dispatch::<true>(point, e, geometry)
     }
 
     /// The kernel the evaluations run with.
@@ -496,15 +547,16 @@ impl Table {
         &self,
         point: &OperatingPoint,
         e: &Ellipse,
+        geometry: [f64; 2],
     ) -> Result<(TableOutput, Jacobian)> {
         match self.kernel {
-            Kernel::Portable => self.eval::<JAC, false>(point, e),
+            Kernel::Portable => self.eval::<JAC, false>(point, e, geometry),
             // SAFETY: a table holds a vector kernel only if the CPU has its instructions
             // (`Kernel::supported`, checked by `detect` and `set_kernel`)
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx2Fma => unsafe { self.eval_avx2::<JAC>(point, e) },
+            Kernel::Avx2Fma => unsafe { self.eval_avx2::<JAC>(point, e, geometry) },
             #[cfg(not(target_arch = "x86_64"))]
-            _ => self.eval::<JAC, false>(point, e),
+            _ => self.eval::<JAC, false>(point, e, geometry),
         }
     }
 
@@ -514,15 +566,19 @@ impl Table {
         &self,
         point: &OperatingPoint,
         e: &Ellipse,
+        geometry: [f64; 2],
     ) -> Result<(TableOutput, Jacobian)> {
-        self.eval::<JAC, true>(point, e)
+        self.eval::<JAC, true>(point, e, geometry)
     }
 
+    /// The evaluation of `point` with contact `e`, whose geometry coordinates are `geometry`
+    /// ([`Coordinates::geometry`]).
     #[inline(always)]
     fn eval<const JAC: bool, const FMA: bool>(
         &self,
         point: &OperatingPoint,
         e: &Ellipse,
+        geometry: [f64; 2],
     ) -> Result<(TableOutput, Jacobian)> {
         point.validate()?;
         if !(e.a > 0.0 && e.b > 0.0 && e.a.is_finite() && e.b.is_finite()) {
@@ -532,7 +588,7 @@ impl Table {
                 "finite and > 0 m",
             ));
         }
-        let (signed, m) = self.coordinates.of(point, e)?;
+        let (signed, m) = self.coordinates.of_geometry(point, e, geometry)?;
         let mut q = signed;
         // bring the point into the stored quadrant ξ ≥ 0 (if mirrored), η ≥ 0
         let mx = q[XI] < 0.0 && self.axes.0[XI].mirrored;
@@ -554,7 +610,10 @@ impl Table {
         let sy = if my { -1.0 } else { 1.0 };
         let out_sign = [sx, sy, sy, 1.0, 1.0, 1.0];
         let in_sign = [sx, sy, sy, 1.0, 1.0, 1.0, 1.0, 1.0];
-        let g: [f64; OUTPUTS] = std::array::from_fn(|o| out_sign[o] * core.v[o]);
+        let mut g = [0.0; OUTPUTS];
+        for (o, x) in g.iter_mut().enumerate() {
+            *x = out_sign[o] * core.v[o];
+        }
         let f = point.normal_force;
         let c = e.radius();
         let out = TableOutput {
@@ -633,24 +692,33 @@ impl Table {
         let cx = self.interp[XI].cubic(q[XI]);
         let cy = self.interp[ETA].cubic(q[ETA]);
         let (k0, hw, hdw) = self.interp[PHI].cubic(q[PHI]).hermite();
-        let corners = Corners::of(&std::array::from_fn(|k| {
-            self.interp[FORCE + k].fraction(q[FORCE + k])
-        }));
+        // (loops, not `array::from_fn`, whose closures stay calls outside this kernel's instruction set)
+        let mut fractions = [Fraction::default(); L];
+        let mut linear_strides = [0; L];
         let st = &self.strides;
+        for k in 0..L {
+            fractions[k] = self.interp[FORCE + k].fraction(q[FORCE + k]);
+            linear_strides[k] = st[FORCE + k];
+        }
         let n_phi = self.axes.0[PHI].points.len() as isize;
-        // the linear corners' row offsets from the creepage node
-        let n = corners.n;
-        let off: [usize; CORNERS] = std::array::from_fn(|c| {
-            (0..L)
-                .map(|k| (corners.start[k] + corners.step[c][k]) * st[FORCE + k])
-                .sum()
-        });
-        // the corner sums' operands: value offsets (rows × ROW) and weights
-        let off_v: [usize; CORNERS] = off.map(|o| o * ROW);
-        let (off, dl) = (&off[..n], &corners.dw);
-        let (off_v, wl) = (&off_v[..n], &corners.w[..n]);
-        let max_off = off_v.iter().copied().max().unwrap_or(0);
-        let flat = self.rows.as_flattened();
+        // the linear corners' row offsets from the creepage node and weights (with the Jacobian, also the
+        // weights' derivatives)
+        let stencil = Offsets::of(&fractions, &linear_strides);
+        let dl = if JAC {
+            Corners::of(&fractions).dw
+        } else {
+            [[0.0; CORNERS]; L]
+        };
+        let (off, wl) = (&stencil.off[..stencil.n], &stencil.w[..stencil.n]);
+        let max_off = off.iter().copied().max().unwrap_or(0);
+        let rows = &self.rows[..];
+        // the lower φ̂ node of the interval at a window point: k0, or on a ghost η̂ node (φ̂ reversed) the
+        // mirror image of k0 + 1, n_φ − 2 − k0, so that the φ̂ ends run backwards
+        let lower = |fy: bool| if fy { n_phi - 2 - k0 } else { k0 } as usize;
+        // the Hermite weights of node k0 and k0 + 1 per lane of a row vector ([value, value, slope, slope]),
+        // for the lower and the upper row in memory: reversed on a ghost η̂ node (index 1)
+        let ends = [[hw[0], hw[0], hw[1], hw[1]], [hw[2], hw[2], hw[3], hw[3]]];
+        let hermite = [ends, [ends[1], ends[0]]];
         // stages 0 and 1: values [j][i·OUTPUTS + o] after φ (the layout of the η stage's lanes), with
         // derivatives [i][j][o][F_N, V, w, a/b, p_ref, φ]
         let mut c1 = [[0.0; 4 * OUTPUTS]; 4];
@@ -662,22 +730,18 @@ impl Table {
             #[cfg(target_arch = "x86_64")]
             {
                 use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-                let p0 = flat.as_ptr().cast::<i8>();
+                let p0 = rows.as_ptr().cast::<i8>();
                 let ii = (cx.start + i).unsigned_abs();
                 for j in 0..4 {
                     let gj = cy.start + j as isize;
-                    let jj = gj.unsigned_abs();
-                    for e in 0..2 {
-                        let gk = k0 + e as isize;
-                        let kk = if gj < 0 { n_phi - 1 - gk } else { gk } as usize;
-                        let base = ii * st[XI] + jj * st[ETA] + kk * st[PHI];
-                        for o in off {
-                            let ptr = p0.wrapping_add((base + *o) * ROW * 4);
-                            // SAFETY: a prefetch is only a hint: it never faults and changes no memory
-                            // (the addresses are those of the corner's ROW values in any case).
-                            unsafe {
-                                _mm_prefetch::<_MM_HINT_T0>(ptr);
-                                _mm_prefetch::<_MM_HINT_T0>(ptr.wrapping_add(ROW * 4 - 1));
+                    let base = ii * st[XI] + gj.unsigned_abs() * st[ETA] + lower(gj < 0);
+                    for o in off {
+                        let ptr = p0.wrapping_add((base + *o) * std::mem::size_of::<Row>());
+                        // SAFETY: a prefetch is only a hint: it never faults and changes no memory
+                        // (the addresses are those of the corner's two rows in any case).
+                        unsafe {
+                            for line in [0, 2 * std::mem::size_of::<Row>() - 1] {
+                                _mm_prefetch::<_MM_HINT_T0>(ptr.wrapping_add(line));
                             }
                         }
                     }
@@ -686,7 +750,7 @@ impl Table {
         };
 
         for i in 0..4 {
-            if i < 3 {
+            if self.prefetch && i < 3 {
                 prefetch(i as isize + 1);
             }
             let gi = cx.start + i as isize;
@@ -694,22 +758,23 @@ impl Table {
             for (j, c1j) in c1.iter_mut().enumerate() {
                 let gj = cy.start + j as isize;
                 let (jj, fy) = (gj.unsigned_abs(), gj < 0);
-                // symmetry signs of ghost points: ξ-mirror flips F_x, η-mirror flips F_y and M_z (values)
-                // and reverses φ (slopes flip once more)
-                let sx = if fx { -1.0 } else { 1.0 };
-                let sy = if fy { -1.0 } else { 1.0 };
-                let sv = [sx, sy, sy, 1.0, 1.0, 1.0];
-                let sd = [sx * sy, 1.0, 1.0, sy, sy, sy];
-                let mut acc = [[0.0; ROW]; 2];
-                let mut acc_d = [[[0.0; L]; ROW]; 2];
-                for (e, (a, ad)) in acc.iter_mut().zip(acc_d.iter_mut()).enumerate() {
-                    let gk = k0 + e as isize;
-                    let kk = if fy { n_phi - 1 - gk } else { gk } as usize;
-                    let base = ii * st[XI] + jj * st[ETA] + kk * st[PHI];
-                    *a = corner_sum::<FMA>(flat, base * ROW, off_v, max_off, wl);
-                    if JAC {
-                        for (c, o) in off.iter().enumerate() {
-                            let row = &self.rows[base + o];
+                let base = ii * st[XI] + jj * st[ETA] + lower(fy);
+                let mut pair = [0.0; 2 * ROW];
+                let h = Hermite {
+                    ends: &hermite[usize::from(fy)],
+                    signs: &SIGN_LANES[2 * usize::from(fx) + usize::from(fy)],
+                };
+                let v = corner_sum::<FMA, JAC>(rows, base, off, max_off, wl, h, &mut pair);
+                c1j[i * OUTPUTS..(i + 1) * OUTPUTS].copy_from_slice(&v);
+                if JAC {
+                    let (sv, sd) = signs(fx, fy);
+                    // the corner sums at the lower and the upper φ̂ node in memory; a0 at k0, a1 at k0 + 1
+                    let (lo, hi) = pair.split_at(ROW);
+                    let (a0, a1) = if fy { (hi, lo) } else { (lo, hi) };
+                    let mut acc_d = [[[0.0; L]; ROW]; 2];
+                    for (c, o) in off.iter().enumerate() {
+                        for (e, ad) in acc_d.iter_mut().enumerate() {
+                            let row = &rows[base + o + usize::from(fy != (e == 1))].0;
                             for o in 0..ROW {
                                 for (k, dlk) in dl.iter().enumerate() {
                                     ad[o][k] += dlk[c] * f64::from(row[o]);
@@ -717,24 +782,9 @@ impl Table {
                             }
                         }
                     }
-                    if !self.all_converged {
-                        converged &= off.iter().all(|o| self.converged[base + o] == 1);
-                    }
-                }
-                // the Hermite weights with the signs folded in (exact: the signs are ±1)
-                let hs: [[f64; OUTPUTS]; 4] = std::array::from_fn(|k| {
-                    std::array::from_fn(|o| hw[k] * if k % 2 == 0 { sv[o] } else { sd[o] })
-                });
-                for o in 0..OUTPUTS {
-                    c1j[i * OUTPUTS + o] = hs[0][o] * acc[0][VAL[o]]
-                        + hs[1][o] * acc[0][SLOPE[o]]
-                        + hs[2][o] * acc[1][VAL[o]]
-                        + hs[3][o] * acc[1][SLOPE[o]];
-                }
-                if JAC {
                     for o in 0..OUTPUTS {
-                        let (y0, d0) = (sv[o] * acc[0][VAL[o]], sd[o] * acc[0][SLOPE[o]]);
-                        let (y1, d1) = (sv[o] * acc[1][VAL[o]], sd[o] * acc[1][SLOPE[o]]);
+                        let (y0, d0) = (sv[o] * a0[VAL[o]], sd[o] * a0[SLOPE[o]]);
+                        let (y1, d1) = (sv[o] * a1[VAL[o]], sd[o] * a1[SLOPE[o]]);
                         for k in 0..L {
                             t1[i][j][o][k] = sv[o]
                                 * (hw[0] * acc_d[0][VAL[o]][k] + hw[2] * acc_d[1][VAL[o]][k])
@@ -744,6 +794,11 @@ impl Table {
                         }
                         t1[i][j][o][L] = hdw[0] * y0 + hdw[1] * d0 + hdw[2] * y1 + hdw[3] * d1;
                     }
+                }
+                if !self.all_converged {
+                    converged &= off.iter().all(|o| {
+                        self.converged[base + o] == 1 && self.converged[base + o + 1] == 1
+                    });
                 }
             }
         }
@@ -788,71 +843,182 @@ impl Table {
     }
 }
 
-/// Σ_c w_c·row over the linear corners, the rows' values starting at `base + off[c]` in `flat`, widened to
-/// f64 and accumulated in f64; in FMA kernels with 4-wide vector conversions and fused multiply-adds (the
-/// kernels then differ in the last bits only). `max_off` is the largest of `off` (the caller's invariant):
-/// the rows are checked to lie in `flat` once per call; rows out of bounds give NaN, never a read outside
-/// `flat`.
+/// The symmetry signs of a window point on a ghost ξ̂ node (`fx`) or a ghost η̂ node (`fy`), of the values
+/// and of the φ̂ slopes per output: the ξ mirror flips F_x, the η mirror flips F_y and M_z and reverses φ̂
+/// (the slopes flip once more).
 #[inline(always)]
-fn corner_sum<const FMA: bool>(
-    flat: &[f32],
+const fn signs(fx: bool, fy: bool) -> ([f64; OUTPUTS], [f64; OUTPUTS]) {
+    let sx = if fx { -1.0 } else { 1.0 };
+    let sy = if fy { -1.0 } else { 1.0 };
+    ([sx, sy, sy, 1.0, 1.0, 1.0], [sx * sy, 1.0, 1.0, sy, sy, sy])
+}
+
+/// [`signs`] per kind of window point (2·[ghost ξ̂ node] + [ghost η̂ node]) in the row layout: per 4-wide
+/// vector k of a row, the signs of the values of outputs 2k, 2k + 1 and of their slopes.
+const SIGN_LANES: [[[f64; 4]; 3]; 4] = {
+    let mut lanes = [[[0.0; 4]; 3]; 4];
+    let mut g = 0;
+    while g < 4 {
+        let (sv, sd) = signs(g >> 1 == 1, g & 1 == 1);
+        let mut k = 0;
+        while k < 3 {
+            lanes[g][k] = [sv[2 * k], sv[2 * k + 1], sd[2 * k], sd[2 * k + 1]];
+            k += 1;
+        }
+        g += 1;
+    }
+    lanes
+};
+
+/// The Hermite weights along φ̂ of a window point: `ends`, per lane of a 4-wide vector of a row (values of
+/// two outputs, then their slopes, the row layout `VAL`, `SLOPE`), for the lower and the upper row of a
+/// corner's pair in memory; and the point's symmetry signs per vector k of a row ([`SIGN_LANES`]). The
+/// weight of a lane is their product (exact: the signs are ±1).
+#[derive(Clone, Copy)]
+struct Hermite<'a> {
+    ends: &'a [[f64; 4]; 2],
+    signs: &'a [[f64; 4]; 3],
+}
+
+/// The Hermite stage of one window point from the corner sums of its row pair (`pair`: lower row, upper
+/// row): per output o, (value and slope terms of lane o) summed as the vector kernel sums them.
+#[inline(always)]
+fn hermite_of(pair: &[f64; 2 * ROW], h: Hermite) -> [f64; OUTPUTS] {
+    std::array::from_fn(|o| {
+        let (k, l) = (o / 2, o % 2);
+        let lane = |l: usize| {
+            let s = h.signs[k][l];
+            h.ends[0][l] * s * pair[4 * k + l] + h.ends[1][l] * s * pair[ROW + 4 * k + l]
+        };
+        lane(l) + lane(l + 2)
+    })
+}
+
+/// One window point's values after the φ̂ stage: Σ_c w_c·(row, next row) over the linear corners, the rows
+/// `base + off[c]` and the one after it (the upper φ̂ node) of `rows`, widened to f64 and accumulated in
+/// f64, then the Hermite weights `h` ([`hermite_of`]); the corner sums themselves are left in `pair` if
+/// `PAIR`. FMA kernels use 4-wide conversions and fused multiply-adds (the kernels then differ in the last
+/// bits only). `max_off` is the largest of `off` (the caller's invariant): the rows are checked to lie in
+/// `rows` once per call; rows out of bounds give NaN, never a read outside `rows`.
+#[inline(always)]
+fn corner_sum<const FMA: bool, const PAIR: bool>(
+    rows: &[Row],
     base: usize,
     off: &[usize],
     max_off: usize,
     w: &[f64],
-) -> [f64; ROW] {
+    h: Hermite,
+    pair: &mut [f64; 2 * ROW],
+) -> [f64; OUTPUTS] {
     let n = off.len().min(w.len());
     debug_assert!(off.iter().all(|o| *o <= max_off));
-    if base + max_off + ROW > flat.len() {
-        return [f64::NAN; ROW];
+    if base + max_off + 2 > rows.len() {
+        *pair = [f64::NAN; 2 * ROW];
+        return [f64::NAN; OUTPUTS];
     }
     #[cfg(target_arch = "x86_64")]
     if FMA {
-        // SAFETY: FMA kernels run only on CPUs with AVX2 and FMA (`Kernel::supported`); every row
-        // base + off[c] .. + ROW lies in `flat` (checked above)
-        return unsafe { corner_sum_avx2(flat, base, &off[..n], w) };
+        // SAFETY: FMA kernels run only on CPUs with AVX2 and FMA (`Kernel::supported`); every pair of rows
+        // base + off[c], base + off[c] + 1 lies in `rows` (checked above)
+        return unsafe { corner_sum_avx2::<PAIR>(rows, base, &off[..n], w, h, pair) };
     }
-    let mut a = [0.0; ROW];
+    *pair = [0.0; 2 * ROW];
     for c in 0..n {
         let s = base + off[c];
-        let r = &flat[s..s + ROW];
-        for k in 0..ROW {
-            a[k] += w[c] * f64::from(r[k]);
+        for (e, r) in rows[s..s + 2].iter().enumerate() {
+            for k in 0..ROW {
+                pair[e * ROW + k] += w[c] * f64::from(r.0[k]);
+            }
         }
     }
-    a
+    hermite_of(pair, h)
 }
 
-/// [`corner_sum`] with AVX2 and FMA: a row as three 4-wide f32 → f64 conversions and fused multiply-adds.
+/// [`corner_sum`] with AVX2 and FMA: a pair of rows as six aligned 4-wide f32 loads, conversions to f64
+/// and fused multiply-adds, the Hermite stage on the six sums in registers.
 ///
 /// # Safety
-/// Every row `base + off[c] .. base + off[c] + ROW` must lie in `flat`, and `w` hold at least `off.len()`
-/// weights.
+/// Every pair of rows `base + off[c]`, `base + off[c] + 1` must lie in `rows`, and `w` hold at least
+/// `off.len()` weights.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn corner_sum_avx2(flat: &[f32], base: usize, off: &[usize], w: &[f64]) -> [f64; ROW] {
+unsafe fn corner_sum_avx2<const PAIR: bool>(
+    rows: &[Row],
+    base: usize,
+    off: &[usize],
+    w: &[f64],
+    h: Hermite,
+    pair: &mut [f64; 2 * ROW],
+) -> [f64; OUTPUTS] {
     use std::arch::x86_64::{
-        _mm_loadu_ps, _mm256_cvtps_pd, _mm256_fmadd_pd, _mm256_set1_pd, _mm256_setzero_pd,
-        _mm256_storeu_pd,
+        _mm_add_pd, _mm_load_ps, _mm_storeu_pd, _mm256_castpd256_pd128, _mm256_cvtps_pd,
+        _mm256_extractf128_pd, _mm256_fmadd_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd,
+        _mm256_setzero_pd, _mm256_storeu_pd,
     };
     const { assert!(ROW == 12) };
-    let mut v = [_mm256_setzero_pd(); 3];
-    let p = flat.as_ptr();
+    let mut v = [_mm256_setzero_pd(); 6];
+    let p = rows.as_ptr();
     for (c, o) in off.iter().enumerate() {
-        // SAFETY: the caller guarantees c < w.len() and that the row lies in `flat`
-        let (wc, r) = unsafe { (_mm256_set1_pd(*w.get_unchecked(c)), p.add(base + o)) };
+        // SAFETY: the caller guarantees c < w.len() and that the rows lie in `rows`
+        let (wc, r) = unsafe {
+            (
+                _mm256_set1_pd(*w.get_unchecked(c)),
+                p.add(base + o).cast::<f32>(),
+            )
+        };
         for (k, x) in v.iter_mut().enumerate() {
-            // SAFETY: values 4k .. 4k + 4 of the row (unaligned load)
-            let row = _mm256_cvtps_pd(unsafe { _mm_loadu_ps(r.add(4 * k)) });
+            // SAFETY: values 4k .. 4k + 4 of the two rows, 16-byte aligned (`Row`)
+            let row = unsafe { _mm256_cvtps_pd(_mm_load_ps(r.add(4 * k))) };
             *x = _mm256_fmadd_pd(wc, row, *x);
         }
     }
-    let mut a = [0.0; ROW];
-    for (k, x) in v.iter().enumerate() {
-        // SAFETY: `a` holds 12 values: the store writes 4k..4k + 4
-        unsafe { _mm256_storeu_pd(a.as_mut_ptr().add(4 * k), *x) };
+    if PAIR {
+        for (k, x) in v.iter().enumerate() {
+            // SAFETY: `pair` holds 24 values: the store writes 4k..4k + 4
+            unsafe { _mm256_storeu_pd(pair.as_mut_ptr().add(4 * k), *x) };
+        }
     }
-    a
+    let mut out = [0.0; OUTPUTS];
+    // SAFETY: the weights are 4 values each
+    let (lo, hi) = unsafe {
+        (
+            _mm256_loadu_pd(h.ends[0].as_ptr()),
+            _mm256_loadu_pd(h.ends[1].as_ptr()),
+        )
+    };
+    for k in 0..3 {
+        // SAFETY: the signs are 4 values each; `out` holds 6 values, the store writes 2k..2k + 2
+        unsafe {
+            let s = _mm256_loadu_pd(h.signs[k].as_ptr());
+            let t = _mm256_mul_pd(v[k], _mm256_mul_pd(lo, s));
+            let t = _mm256_fmadd_pd(v[k + 3], _mm256_mul_pd(hi, s), t);
+            let s = _mm_add_pd(_mm256_castpd256_pd128(t), _mm256_extractf128_pd::<1>(t));
+            _mm_storeu_pd(out.as_mut_ptr().add(2 * k), s);
+        }
+    }
+    out
+}
+
+/// The row strides of a table of `shape` in memory order: C order over (ξ̂, η̂, F_N, V, w, a/b, p_ref, φ̂).
+fn memory_strides(shape: &[usize; DIMS]) -> [usize; DIMS] {
+    let mut strides = [1usize; DIMS];
+    let mut s = shape[PHI];
+    for d in (0..DIMS).rev().filter(|d| *d != PHI) {
+        strides[d] = s;
+        s *= shape[d];
+    }
+    strides
+}
+
+/// The memory index of the point with flat (C-order, the files') index `flat` in a table of `shape`.
+fn memory_index(shape: &[usize; DIMS], strides: &[usize; DIMS], flat: usize) -> usize {
+    let mut rest = flat;
+    let mut m = 0;
+    for d in (0..DIMS).rev() {
+        m += (rest % shape[d]) * strides[d];
+        rest /= shape[d];
+    }
+    m
 }
 
 /// A table in memory from node values `f(coordinates) -> outputs` (for tests).

@@ -168,6 +168,14 @@ impl Value {
 pub struct Values {
     table: &'static [Variable],
     values: Vec<Value>,
+    /// Whether every variable's value reference is its table index (then [`Values::index_of`] looks a
+    /// reference up directly instead of searching the table).
+    indexed: bool,
+}
+
+/// Whether every variable of `table` has its table index as value reference.
+fn indexed(table: &[Variable]) -> bool {
+    table.iter().enumerate().all(|(i, v)| v.vr as usize == i)
 }
 
 impl Values {
@@ -182,7 +190,11 @@ impl Values {
                 Kind::String { start } => Value::String(start.unwrap_or("").to_string()),
             })
             .collect();
-        Values { table, values }
+        Values {
+            table,
+            values,
+            indexed: indexed(table),
+        }
     }
 
     /// Builds values from a list in table order; the types must match the table.
@@ -197,7 +209,11 @@ impl Values {
                         | (Type::String, Value::String(_))
                 )
             });
-        ok.then_some(Values { table, values })
+        ok.then(|| Values {
+            table,
+            values,
+            indexed: indexed(table),
+        })
     }
 
     /// The variable table.
@@ -212,6 +228,10 @@ impl Values {
 
     /// The table index of a value reference of the given type.
     pub fn index_of(&self, vr: u32, ty: Type) -> Option<usize> {
+        if self.indexed {
+            let i = vr as usize;
+            return self.table.get(i).filter(|v| v.ty() == ty).map(|_| i);
+        }
         self.table.iter().position(|v| v.vr == vr && v.ty() == ty)
     }
 
@@ -315,6 +335,22 @@ mod tests {
         assert_eq!(v.string(2), "");
         assert_eq!(TABLE[0].nominal(), 0.5);
         assert_eq!(TABLE[1].nominal(), 1.0);
+    }
+
+    /// A table whose value references are its indices is looked up directly, with the same answers as the
+    /// search: the reference's own type only, nothing beyond the table.
+    #[test]
+    fn indexed_tables_resolve_references_directly() {
+        static INDEXED: [Variable; 2] = [
+            Variable { vr: 0, ..TABLE[2] },
+            Variable { vr: 1, ..TABLE[0] },
+        ];
+        let v = Values::start(&INDEXED);
+        assert!(v.indexed && !Values::start(&TABLE).indexed);
+        assert_eq!(v.index_of(0, Type::String), Some(0));
+        assert_eq!(v.index_of(1, Type::Real), Some(1));
+        assert_eq!(v.index_of(1, Type::String), None);
+        assert_eq!(v.index_of(2, Type::Real), None);
     }
 
     #[test]
