@@ -94,6 +94,7 @@ raw_limit = 0.001
 points = [-0.025, -0.008, 0.0, 0.008, 0.025]
 raw_limit = 0.06
 [normal_force]
+interpolation = "log"
 points = [90e3, 110e3]
 [speed]
 points = [27.0, 33.0]
@@ -502,6 +503,11 @@ fn verify_passes_a_good_table_and_fails_a_stale_one() {
     let info = ok(&wheelrail(&["table", "info", s(&dir)], None));
     assert!(
         info.contains("3840 = ξ 6 × η 4 × φ 5 × F_N 2 × V 2 × w 2 × a/b 2 × p_ref 2"),
+        "{info}"
+    );
+    // the interpolation of each axis as the table records it (F_N in ln F_N here)
+    assert!(
+        info.contains("[N] Log") && info.contains("[m/s] Linear") && info.contains("[-] Cubic"),
         "{info}"
     );
 

@@ -499,7 +499,7 @@ fn info(dir: &Path) -> Result<()> {
         f.axes.len(),
         shape_text(&f.axes)
     );
-    for (a, d) in f.axes.0.iter().zip(DIMENSIONS.iter()) {
+    for (dim, (a, d)) in f.axes.0.iter().zip(DIMENSIONS.iter()).enumerate() {
         println!(
             "  {:<4} {:<13} {:>3} points, {:>10} .. {:<10} [{}] {:?}{}{}{}",
             d.symbol,
@@ -508,7 +508,7 @@ fn info(dir: &Path) -> Result<()> {
             a.min(),
             a.max(),
             d.unit,
-            d.interpolation,
+            a.interpolation(dim),
             if a.mirrored { ", mirrored" } else { "" },
             a.raw_limit
                 .map_or(String::new(), |l| format!(", raw limit {l}")),
