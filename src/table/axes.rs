@@ -52,9 +52,9 @@ pub enum Interpolation {
     Cubic,
     /// Piecewise linear.
     Linear,
-    /// Piecewise linear in ln x (all points > 0): exact for data linear in the logarithm, the better
-    /// interpolant for loads, speeds, pressures and ratios spread over decades (on log-spaced points the
-    /// cells are then uniform in the coordinate the model varies smoothly in).
+    /// Piecewise linear in ln x (all points > 0): exact for data linear in the logarithm; measured the
+    /// better interpolant for the load (the contact grows like F_N^(1/3)), the ellipse ratio and the
+    /// reference pressure, whose points are log-spaced (docs/model.md §12.3).
     Log,
 }
 
@@ -273,9 +273,10 @@ impl Default for Axes {
 ///   m): the log-like spacing beyond saturation keeps the count low.
 /// - F_N, V: log spacing; F_N interpolated linearly in ln F_N, V in V (measured on the bundled table, 2000
 ///   samples: |ΔF|/F_N p99 4.1e-3 against 5.4e-3 linear in F_N, T_max p99 5.6 K against 10.4 K; V in ln V
-///   as well lowers the mean force error further but doubles T_max's p99); w: dense below 0.07 where the friction falls from dry to boundary lubrication
-///   (a kink at w = h_bl/h_f,max = 0.005 for the default parameters) and from the onset of mixed
-///   lubrication (w ≈ 0.01–0.05).
+///   as well lowers the mean force error further but doubles T_max's p99).
+/// - w: dense below 0.07 where the friction falls from dry to boundary lubrication (a kink at w =
+///   h_bl/h_f,max = 0.005 for the default parameters) and from the onset of mixed lubrication (w ≈
+///   0.01–0.05).
 /// - a/b from 0.2 (worn, conformal treads) to 5 (flange root), p_ref from 0.15 GPa (conformal) to 2.5 GPa
 ///   (flange root, gauge corner): log spacing, interpolated in ln x.
 fn default_spec(dim: usize) -> AxisSpec {
@@ -777,7 +778,7 @@ mod tests {
         assert_eq!(a.0[FORCE].interpolation(FORCE), Interpolation::Log);
         assert_eq!(a.0[SPEED].interpolation(SPEED), Interpolation::Linear);
         assert_eq!(a.0[XI].interpolation(XI), Interpolation::Cubic);
-        // the sidecar records it, and reading the records back gives the same axes
+        // the sidecar records it (the command line's verify test reads a built table's back)
         let records = crate::table::file::axis_records(&a);
         assert_eq!(records[FORCE].interpolation, Interpolation::Log);
         assert_eq!(records[SPEED].interpolation, Interpolation::Linear);

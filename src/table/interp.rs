@@ -24,7 +24,8 @@
 //! affine in (F_N, a/b, p_ref), and a convex combination of node values (so it keeps the monotonicity of
 //! the creep curves along the cubic axes). A single-point axis contributes nothing (its coordinate is that
 //! point). On a log axis ([`Interpolation::Log`]) the fraction is that of ln x, so the class reproduced
-//! exactly is affine (multilinear) in the logarithm of that coordinate. Measured on the format-1 default table (F_N, V, w linear): simplices over all three gave
+//! exactly is affine (multilinear) in the logarithm of that coordinate. Measured on the format-1 default
+//! table (F_N, V, w linear): simplices over all three gave
 //! |ΔF|/F_N p99 1.1e-2 against 6e-3 multilinear; with (V, w) multilinear the results are the multilinear
 //! ones (F_N alone on the simplex is linear).
 
