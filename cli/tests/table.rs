@@ -442,6 +442,26 @@ fn verify_passes_a_good_table_and_fails_a_stale_one() {
     assert!(p99 <= 0.01 && max <= 0.03, "{r}");
     // not trivially zero: the samples fall between the points
     assert!(r["force"]["mean"].as_f64().unwrap() > 1e-6, "{r}");
+    // the errors per cell of each axis: every compared sample in one cell per axis, the largest error in
+    // one of them; p_ref's two points make one cell, which holds them all
+    let cells = r["cells"].as_array().unwrap();
+    for axis in ["creepage_x", "spin", "normal_force", "reference_pressure"] {
+        let of: Vec<&serde_json::Value> = cells.iter().filter(|c| c["axis"] == axis).collect();
+        let count: u64 = of.iter().map(|c| c["compared"].as_u64().unwrap()).sum();
+        assert_eq!(count, 60, "{axis}");
+        let top = of
+            .iter()
+            .map(|c| c["force"]["max"].as_f64().unwrap())
+            .fold(0.0, f64::max);
+        assert_eq!(top, max, "{axis}");
+    }
+    let p_ref: Vec<&serde_json::Value> = cells
+        .iter()
+        .filter(|c| c["axis"] == "reference_pressure")
+        .collect();
+    assert_eq!(p_ref.len(), 1);
+    assert_eq!(p_ref[0]["force"], r["force"]);
+    assert_eq!(p_ref[0]["max_temperature"], r["max_temperature"]);
 
     // --csv: one row per compared sample; its columns give the report's force errors, and its exact
     // columns are what `wheelrail point` gives at the row's operating point and contact
@@ -531,7 +551,13 @@ fn verify_passes_a_good_table_and_fails_a_stale_one() {
         String::from_utf8_lossy(&o.stdout)
     );
     assert!(String::from_utf8_lossy(&o.stderr).contains("accuracy target missed"));
-    assert!(String::from_utf8_lossy(&o.stdout).contains("MISSED"));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("MISSED"));
+    // the cells that miss the target are marked
+    assert!(
+        text.contains("by cell of each axis") && text.contains(" *\n"),
+        "{text}"
+    );
     cleanup("ver-");
 }
 

@@ -589,17 +589,7 @@ impl Table {
             ));
         }
         let (signed, m) = self.coordinates.of_geometry(point, e, geometry)?;
-        let mut q = signed;
-        // bring the point into the stored quadrant ξ ≥ 0 (if mirrored), η ≥ 0
-        let mx = q[XI] < 0.0 && self.axes.0[XI].mirrored;
-        let my = q[ETA] < 0.0;
-        if mx {
-            q[XI] = -q[XI];
-        }
-        if my {
-            q[ETA] = -q[ETA];
-            q[PHI] = -q[PHI];
-        }
+        let (mut q, mx, my) = self.stored_quadrant(signed);
         let mut inside = [true; DIMS];
         for d in 0..DIMS {
             (q[d], inside[d]) = self.interp[d].clamp(q[d]);
@@ -675,6 +665,22 @@ impl Table {
             jac[2][FORCE] += c * g[2] * (1.0 + e.load_exponent);
         }
         Ok((out, jac))
+    }
+
+    /// Table coordinates `q` brought into the stored quadrant ξ ≥ 0 (if the ξ axis is mirrored), η ≥ 0 (the
+    /// η mirror also reverses φ), and whether the ξ and the η mirror were applied.
+    #[inline(always)]
+    pub(crate) fn stored_quadrant(&self, mut q: [f64; DIMS]) -> ([f64; DIMS], bool, bool) {
+        let mx = q[XI] < 0.0 && self.axes.0[XI].mirrored;
+        let my = q[ETA] < 0.0;
+        if mx {
+            q[XI] = -q[XI];
+        }
+        if my {
+            q[ETA] = -q[ETA];
+            q[PHI] = -q[PHI];
+        }
+        (q, mx, my)
     }
 
     /// Tensor-product interpolation at stored-quadrant coordinates `q` (inside the ranges).

@@ -9,7 +9,7 @@
 //! target of issues 5 and 13 is p99 ≤ 0.01 and max ≤ 0.03. Exact points that do not converge (after the
 //! retry) are skipped and counted, never compared.
 
-use super::axes::{DIMS, FORCE};
+use super::axes::{DIMENSIONS, DIMS, FORCE};
 use super::build::solve_with_retry;
 use super::coords::Ellipse;
 use super::{Table, TableOutput};
@@ -174,6 +174,68 @@ pub struct VerifyReport {
     pub frictional_power: Option<Stats>,
     /// Where the force error is largest.
     pub worst: Option<Worst>,
+    /// The force and T_max errors per cell of every axis of more than one point (where to add nodes).
+    pub cells: Vec<CellErrors>,
+}
+
+/// The errors of the compared samples inside one cell of one table axis: between two adjacent points, in
+/// the axis' coordinate (normalised creepages in the stored quadrant, F_N, V, w, a/b, p_ref).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CellErrors {
+    /// The axis (dimension name, e.g. `reference_pressure`).
+    pub axis: &'static str,
+    /// The cell's lower point.
+    pub lower: f64,
+    /// The cell's upper point.
+    pub upper: f64,
+    /// Samples inside the cell.
+    pub compared: usize,
+    /// |ΔF|/F_N of those samples [-].
+    pub force: Stats,
+    /// |ΔT_max| of those samples [K].
+    pub max_temperature: Stats,
+}
+
+/// Per cell of every axis of `table` with more than one point, the force and T_max errors of the compared
+/// samples inside it (a sample on a point between two cells counts in the upper one; one outside an axis'
+/// range, in the nearest cell).
+fn cell_errors(table: &Table, compared: &[&Compared]) -> Vec<CellErrors> {
+    let coordinates: Vec<Option<[f64; DIMS]>> = compared
+        .iter()
+        .map(|c| {
+            let (p, e) = (&c.sample.point, &c.sample.ellipse);
+            let q = table.coordinates().of(p, e).ok()?.0;
+            Some(table.stored_quadrant(q).0)
+        })
+        .collect();
+    let mut cells = Vec::new();
+    for (d, axis) in table.axes().0.iter().enumerate() {
+        let points = &axis.points;
+        for (i, w) in points.windows(2).enumerate() {
+            let inside: Vec<&Compared> = compared
+                .iter()
+                .zip(&coordinates)
+                .filter_map(|(c, q)| {
+                    let x = q.as_ref()?[d];
+                    let cell = points
+                        .partition_point(|p| *p <= x)
+                        .clamp(1, points.len() - 1)
+                        - 1;
+                    (cell == i).then_some(*c)
+                })
+                .collect();
+            let column = |k: usize| inside.iter().map(|c| c.errors[k]).collect::<Vec<f64>>();
+            cells.push(CellErrors {
+                axis: DIMENSIONS[d].name,
+                lower: w[0],
+                upper: w[1],
+                compared: inside.len(),
+                force: Stats::of(&column(0)),
+                max_temperature: Stats::of(&column(3)),
+            });
+        }
+    }
+    cells
 }
 
 impl VerifyReport {
@@ -289,6 +351,7 @@ pub fn report(table: &Table, compared: &[Option<Compared>]) -> VerifyReport {
         fluid_load_fraction: Stats::of(&cols[4]),
         frictional_power: table.stores_frictional_power().then(|| Stats::of(&cols[5])),
         worst,
+        cells: cell_errors(table, &compared.iter().flatten().collect::<Vec<_>>()),
     }
 }
 
@@ -347,5 +410,75 @@ mod tests {
         assert!(top > 0.5 * t.axes().0[0].raw_limit.unwrap(), "{top}");
         assert_eq!(pts, sample_points(&t, 400, 3));
         assert_ne!(pts, sample_points(&t, 400, 4));
+    }
+
+    #[test]
+    fn cell_errors_hold_the_samples_of_each_cell() {
+        let t = super::super::synthetic(
+            &super::super::tiny_axes(),
+            &super::super::coarse_params(),
+            &|_| [0.0, 0.0, 0.0, 300.0, 0.0, 0.0],
+        );
+        let samples = sample_points(&t, 300, 5);
+        // distinct known errors per sample; every tenth exact solve "did not converge"
+        let compared: Vec<Option<Compared>> = samples
+            .iter()
+            .enumerate()
+            .map(|(k, s)| {
+                let o = t.evaluate(&s.point, &s.ellipse).unwrap();
+                let e = k as f64;
+                (k % 10 != 0).then_some(Compared {
+                    sample: *s,
+                    table: o,
+                    exact: o,
+                    errors: [1e-4 * e, 0.0, 0.0, 0.1 * e, 0.0, 0.0],
+                })
+            })
+            .collect();
+        let r = report(&t, &compared);
+        let kept: Vec<&Compared> = compared.iter().flatten().collect();
+        assert_eq!(r.compared, 270);
+        // every axis of tiny_axes has at least two points: its cells
+        let axes = &t.axes().0;
+        let n_cells: usize = axes.iter().map(|a| a.points.len() - 1).sum();
+        assert_eq!(r.cells.len(), n_cells);
+        for (d, a) in axes.iter().enumerate() {
+            let cells: Vec<&CellErrors> = r
+                .cells
+                .iter()
+                .filter(|c| c.axis == DIMENSIONS[d].name)
+                .collect();
+            assert_eq!(cells.iter().map(|c| c.compared).sum::<usize>(), 270, "{d}");
+            for (i, c) in cells.iter().enumerate() {
+                assert_eq!((c.lower, c.upper), (a.points[i], a.points[i + 1]));
+                // the samples whose coordinate, in the stored quadrant (ξ̂, η̂ ≥ 0, φ̂ turned with η̂),
+                // lies in the cell (the last cell closed)
+                let last = i + 2 == a.points.len();
+                let inside: Vec<&&Compared> = kept
+                    .iter()
+                    .filter(|k| {
+                        let q = t
+                            .coordinates()
+                            .of(&k.sample.point, &k.sample.ellipse)
+                            .unwrap()
+                            .0;
+                        let x = match d {
+                            0 => q[0].abs(),
+                            1 => q[1].abs(),
+                            2 => q[2] * q[1].signum(),
+                            _ => q[d],
+                        };
+                        x >= c.lower && (x < c.upper || last && x <= c.upper)
+                    })
+                    .collect();
+                assert_eq!(c.compared, inside.len(), "{} cell {i}", c.axis);
+                let col = |j: usize| inside.iter().map(|k| k.errors[j]).collect::<Vec<f64>>();
+                assert_eq!(c.force, Stats::of(&col(0)));
+                assert_eq!(c.max_temperature, Stats::of(&col(3)));
+            }
+        }
+        // mirrored samples were binned by their mirror image
+        assert!(kept.iter().any(|k| k.sample.point.creepage_x < 0.0));
+        assert!(kept.iter().any(|k| k.sample.point.creepage_y < 0.0));
     }
 }

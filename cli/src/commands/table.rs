@@ -462,6 +462,29 @@ fn print_report(r: &VerifyReport, seconds: f64) {
             w.force_error, w.point, w.semi_axes
         );
     }
+    if !r.cells.is_empty() {
+        println!(
+            "by cell of each axis (coordinates as stored; * p99 or max of |dF|/F_N above the target):"
+        );
+        println!(
+            "{:>20}  {:>10}  {:>10}  {:>7}  {:>10}  {:>10}  {:>9}",
+            "axis", "from", "to", "samples", "|dF| p99", "|dF| max", "dT p99 K"
+        );
+    }
+    for c in &r.cells {
+        let missed = c.force.p99 > TARGET_P99 || c.force.max > TARGET_MAX;
+        println!(
+            "{:>20}  {:>10.4e}  {:>10.4e}  {:>7}  {:>10.3e}  {:>10.3e}  {:>9.2}{}",
+            c.axis,
+            c.lower,
+            c.upper,
+            c.compared,
+            c.force.p99,
+            c.force.max,
+            c.max_temperature.p99,
+            if missed { " *" } else { "" }
+        );
+    }
     println!(
         "target (p99 <= {TARGET_P99}, max <= {TARGET_MAX}): {}",
         if r.meets_target() { "met" } else { "MISSED" }
