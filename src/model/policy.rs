@@ -16,6 +16,12 @@
 //!   exact solver (a [`Notice::FellBack`] with the reason); table-only clamps points to the table's ranges
 //!   ([`Notice::Clamped`]) and refuses other parameters ([`crate::Error::TableParameters`]) or a contact
 //!   outside its geometry axes ([`crate::Error::TableGeometry`]); exact-only always solves.
+//! - **Several tables** ([`Evaluator::with_tables`], e.g. one per region of contact geometry): each point
+//!   goes to the first table, in the given order, that is built for the model's parameters, covers the
+//!   contact and holds the point inside its ranges; table-only clamps to the first that covers the
+//!   contact. Where no table holds the point, auto falls back as with one table (the reason: other
+//!   parameters if no table was built for them, else another geometry if none covers the contact, else
+//!   outside the ranges).
 //! - **Normal contact:** every evaluation states its contact ellipse and peak pressure ([`Patch`]): the
 //!   exact solver's, by table the same Hertz solution (docs/model.md §2) of the evaluation's geometry (for
 //!   the model's own geometry from its shape, made once). The frictional power (docs/model.md §6.3, §7.4)
@@ -259,11 +265,11 @@ type Prepared<O> = Option<(Solved, Route<O>, Notices)>;
 pub struct Evaluator {
     model: Model,
     mode: Mode,
-    /// The table the mode uses (None in mode exact-only).
-    table: Option<Arc<Table>>,
-    /// Whether the table was built for the model's parameters, geometry aside (kept: comparing them is a
-    /// large part of a table evaluation's cost).
-    table_params: bool,
+    /// The tables the mode uses, in the order they are tried (none in mode exact-only).
+    tables: Vec<Arc<Table>>,
+    /// Per table, whether it was built for the model's parameters, geometry aside (kept: comparing them is
+    /// a large part of a table evaluation's cost).
+    table_params: Vec<bool>,
     /// The shape of the model's geometry, which gives the normal contact of a table evaluation at any load
     /// without solving for the eccentricity every time.
     model_shape: ContactShape,
@@ -280,21 +286,39 @@ impl Evaluator {
         table: Option<Arc<Table>>,
         policy: Policy,
     ) -> Result<Evaluator> {
+        Self::with_tables(model, mode, table.into_iter().collect(), policy)
+    }
+
+    /// [`Evaluator::new`] with several tables, tried in the given order for each point (see the module
+    /// documentation); none is as [`Evaluator::new`] without a table.
+    pub fn with_tables(
+        model: Model,
+        mode: Mode,
+        tables: Vec<Arc<Table>>,
+        policy: Policy,
+    ) -> Result<Evaluator> {
         policy.validate()?;
-        let table = table.filter(|_| mode != Mode::ExactOnly);
-        if mode == Mode::TableOnly && table.is_none() {
+        let tables = if mode == Mode::ExactOnly {
+            Vec::new()
+        } else {
+            tables
+        };
+        if mode == Mode::TableOnly && tables.is_empty() {
             return Err(Error::NoTable { mode });
         }
-        let table_params = table.as_ref().is_some_and(|t| {
-            let mut params = model.params().clone();
-            params.geometry = t.params().geometry.clone();
-            t.matches(&params)
-        });
+        let table_params = tables
+            .iter()
+            .map(|t| {
+                let mut params = model.params().clone();
+                params.geometry = t.params().geometry.clone();
+                t.matches(&params)
+            })
+            .collect();
         let model_shape = ContactShape::of(&model.params().geometry, &model.params().material)?;
         Ok(Evaluator {
             model,
             mode,
-            table,
+            tables,
             table_params,
             model_shape,
             policy,
@@ -311,9 +335,14 @@ impl Evaluator {
         self.mode
     }
 
-    /// The table the mode uses (None in mode exact-only, or in mode auto without a table).
+    /// The (first) table the mode uses (None in mode exact-only, or in mode auto without a table).
     pub fn table(&self) -> Option<&Arc<Table>> {
-        self.table.as_ref()
+        self.tables.first()
+    }
+
+    /// The tables the mode uses, in the order they are tried.
+    pub fn tables(&self) -> &[Arc<Table>] {
+        &self.tables
     }
 
     /// The settings.
@@ -324,15 +353,17 @@ impl Evaluator {
     /// Whether there is a table, built for the model's parameters (geometry aside), that covers the
     /// model's own contact geometry (at the reference load of its p_ref).
     pub fn matches(&self) -> bool {
-        self.table.as_deref().is_some_and(|t| {
-            self.table_params
-                && self
-                    .contact(
-                        &self.model.params().geometry,
-                        crate::table::axes::REFERENCE_FORCE,
-                    )
-                    .is_ok_and(|(e, _)| t.covers(&e, crate::table::axes::REFERENCE_FORCE))
-        })
+        let force = crate::table::axes::REFERENCE_FORCE;
+        self.contact(&self.model.params().geometry, force)
+            .is_ok_and(|(e, _)| self.matching().any(|t| t.covers(&e, force)))
+    }
+
+    /// The tables built for the model's parameters (geometry aside), in order.
+    fn matching(&self) -> impl Iterator<Item = &Table> {
+        self.tables
+            .iter()
+            .zip(&self.table_params)
+            .filter_map(|(t, p)| p.then_some(t.as_ref()))
     }
 
     /// The contact ellipse of `geometry` at normal force `force` [N] (Hertz, docs/model.md §2, or the
@@ -365,35 +396,42 @@ impl Evaluator {
         point: &OperatingPoint,
         geometry: &Geometry,
     ) -> Result<(Route<O>, Option<Notice>)> {
-        let Some(table) = self.table.as_deref() else {
+        let Some(first) = self.tables.first() else {
             return Ok((None, None));
         };
-        if !self.table_params {
+        let Some(built) = self.matching().next() else {
             return match self.mode {
                 Mode::TableOnly => Err(other_parameters(
-                    table,
+                    first,
                     self.model.with(geometry, None).params(),
                 )),
                 _ => Ok((None, Some(Notice::FellBack(Fallback::OtherParameters)))),
             };
-        }
-        let (e, p0) = self.contact(geometry, point.normal_force)?;
-        // the evaluation flags a point outside the ranges (and an invalid one is an error), as
-        // `Table::in_range` would: evaluating once is half the cost of asking first
-        let Some(output) = O::covered(table, point, &e) else {
-            return match self.mode {
-                Mode::TableOnly => Err(table.outside_geometry(&e, point.normal_force)),
-                _ => Ok((None, Some(Notice::FellBack(Fallback::OtherGeometry)))),
-            };
         };
-        let inside = output.as_ref().is_ok_and(|o| o.outputs().in_range);
-        match self.mode {
-            Mode::TableOnly => Ok((
-                Some(ByTable(e, p0, output)),
-                (!inside).then_some(Notice::Clamped),
-            )),
-            _ if inside => Ok((Some(ByTable(e, p0, output)), None)),
-            _ => Ok((None, Some(Notice::FellBack(Fallback::OutsideRanges)))),
+        let (e, p0) = self.contact(geometry, point.normal_force)?;
+        // the first table that covers the contact and holds the point inside its ranges; the first that
+        // covers it at all (table-only clamps to it). Each evaluation flags a point outside the ranges (and
+        // an invalid one is an error), as `Table::in_range` would: evaluating once is half the cost of
+        // asking first
+        let mut clamped = None;
+        for table in self.matching() {
+            let Some(output) = O::covered(table, point, &e) else {
+                continue;
+            };
+            if output.as_ref().is_ok_and(|o| o.outputs().in_range) {
+                return Ok((Some(ByTable(e, p0, output)), None));
+            }
+            if clamped.is_none() {
+                clamped = Some(output);
+            }
+        }
+        match (self.mode, clamped) {
+            (Mode::TableOnly, Some(output)) => {
+                Ok((Some(ByTable(e, p0, output)), Some(Notice::Clamped)))
+            }
+            (Mode::TableOnly, None) => Err(built.outside_geometry(&e, point.normal_force)),
+            (_, Some(_)) => Ok((None, Some(Notice::FellBack(Fallback::OutsideRanges)))),
+            (_, None) => Ok((None, Some(Notice::FellBack(Fallback::OtherGeometry)))),
         }
     }
 

@@ -854,3 +854,110 @@ fn a_warm_step_needs_two_iterations_on_an_unchanged_input_and_agrees_with_a_cold
         );
     }
 }
+
+/// A small table for [`params`] over [`small_axes`] with the points of some dimensions replaced
+/// (`changes`: dimension, points), built once per key in memory.
+fn table_with(key: usize, changes: &[(usize, &[f64])]) -> Arc<Table> {
+    static TABLES: [OnceLock<Arc<Table>>; 2] = [OnceLock::new(), OnceLock::new()];
+    TABLES[key]
+        .get_or_init(|| {
+            let mut axes = small_axes();
+            for (d, points) in changes {
+                axes.0[*d].points = points.to_vec();
+            }
+            let files = crate::table::build(&params(), &axes, None, &|| ()).unwrap();
+            Arc::new(Table::from_files(files, None).unwrap())
+        })
+        .clone()
+}
+
+#[test]
+fn several_tables_take_each_point_to_the_first_that_holds_it() {
+    use crate::table::axes::{PRESSURE, RATIO, SPEED};
+    // a flange-root region of contact geometry (a/b 2–2.4, p_ref 1.0–1.2 GPa), and the small table's
+    // region with a narrower speed range (25–30 m/s against 20–40 m/s)
+    let flange = table_with(0, &[(RATIO, &[2.0, 2.4]), (PRESSURE, &[1.0e9, 1.2e9])]);
+    let narrow = table_with(1, &[(SPEED, &[25.0, 30.0])]);
+    let model = || Model::new(params()).unwrap();
+    let with = |mode: Mode, tables: &[&Arc<Table>]| {
+        let tables = tables.iter().map(|t| Arc::clone(t)).collect();
+        Evaluator::with_tables(model(), mode, tables, Policy::default()).unwrap()
+    };
+    let set = with(Mode::Auto, &[&narrow, &table(), &flange]);
+    assert_eq!(set.tables().len(), 3);
+    assert!(Arc::ptr_eq(set.table().unwrap(), &narrow));
+    assert!(set.matches());
+    let by_table = |e: &Evaluator, p: &OperatingPoint, g: &Geometry| {
+        let r = e.evaluate_at(p, g, None, &mut None).unwrap();
+        assert!(notice_list(&r).is_empty(), "{:?}", notice_list(&r));
+        match r.by {
+            Evaluated::Table(o) => values(&o),
+            other => panic!("not by table: {other:?}"),
+        }
+    };
+    let own = params().geometry;
+    // the model's contact at 27 m/s: the narrow table (first); at 35 m/s, outside its speeds: the small one
+    for (speed, first) in [(27.0, &narrow), (35.0, &table())] {
+        let p = OperatingPoint { speed, ..inside() };
+        let want = by_table(&with(Mode::Auto, &[first]), &p, &own);
+        assert_eq!(by_table(&set, &p, &own), want, "{speed}");
+        let other = if Arc::ptr_eq(first, &narrow) {
+            table()
+        } else {
+            narrow.clone()
+        };
+        if speed < 30.0 {
+            // both hold it: the values differ by their interpolation (the choice is visible)
+            assert_ne!(by_table(&with(Mode::Auto, &[&other]), &p, &own), want);
+        }
+    }
+    // a flange-root contact (a/b 2.2, p_ref 1.1 GPa as prescribed semi-axes): the flange table
+    let [a, b] = crate::table::coords::semi_axes(2.2, 1.1e9, inside().normal_force);
+    let root = Geometry::of_inputs(1.0, 1.0, [a, b]);
+    let want = by_table(&with(Mode::Auto, &[&flange]), &inside(), &root);
+    assert_eq!(by_table(&set, &inside(), &root), want);
+    // a contact no table covers: the exact solver, the reason another geometry
+    let [a, b] = crate::table::coords::semi_axes(1.0, 0.9e9, inside().normal_force);
+    let between = Geometry::of_inputs(1.0, 1.0, [a, b]);
+    let r = set
+        .evaluate_at(&inside(), &between, None, &mut None)
+        .unwrap();
+    assert!(matches!(r.by, Evaluated::Exact(_)));
+    assert_eq!(notice_list(&r), [Notice::FellBack(Fallback::OtherGeometry)]);
+    // covered but outside every covering table's ranges (60 m/s): the exact solver, outside the ranges
+    let fast = OperatingPoint {
+        speed: 60.0,
+        ..inside()
+    };
+    let r = eval(&set, &fast);
+    assert!(matches!(r.by, Evaluated::Exact(_)));
+    assert_eq!(notice_list(&r), [Notice::FellBack(Fallback::OutsideRanges)]);
+    // table-only: clamped to the first covering table (the narrow one: 30 m/s), or refused
+    let only = with(Mode::TableOnly, &[&narrow, &table(), &flange]);
+    let r = eval(&only, &fast);
+    assert_eq!(notice_list(&r), [Notice::Clamped]);
+    let clamped = |e: &Evaluator| match eval(e, &fast).by {
+        Evaluated::Table(o) => values(&o),
+        other => panic!("not by table: {other:?}"),
+    };
+    assert_eq!(clamped(&only), clamped(&with(Mode::TableOnly, &[&narrow])));
+    let e = only
+        .evaluate_at(&inside(), &between, None, &mut None)
+        .unwrap_err();
+    assert!(matches!(e, Error::TableGeometry { .. }), "{e}");
+    // a table for other parameters is passed over; with none for the model's, that is the reason
+    let mut other = params();
+    other.fluid.k_wet = 0.3;
+    let stale = Evaluator::with_tables(
+        Model::new(other.clone()).unwrap(),
+        Mode::Auto,
+        vec![table()],
+        Policy::default(),
+    )
+    .unwrap();
+    let r = eval(&stale, &inside());
+    assert_eq!(
+        notice_list(&r),
+        [Notice::FellBack(Fallback::OtherParameters)]
+    );
+}
