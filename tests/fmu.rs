@@ -1279,3 +1279,101 @@ fn derivatives_after_a_restore_or_a_return_to_the_same_values_are_those_of_the_s
 }
 
 mod model_exchange;
+
+/// `table_file` naming several tables separated by `;`: each step goes to the first table that covers its
+/// contact and holds the point (bit for bit that table's result alone), a contact none covers to the
+/// exact solver with one warning naming every table; a missing table is a warning in mode 0 (the others
+/// are used) and an error in mode 1. Two tables for the tests' parameters: the small test table (the
+/// default running-surface contact) and one over flange-root contacts (a/b 2–2.4, p_ref 1.0–1.2 GPa).
+#[test]
+fn several_tables_serve_the_contacts_each_covers() {
+    let mut params = Params::default();
+    params.grid.nx = GRID as usize;
+    params.grid.ny = GRID as usize;
+    let small =
+        wheelrail::table::Axes::from_toml_file(&root().join("tests/fixtures/small-axes.toml"))
+            .unwrap();
+    let mut flange = small.clone();
+    flange.0[6].points = vec![2.0, 2.4];
+    flange.0[7].points = vec![1.0e9, 1.2e9];
+    let dirs: Vec<PathBuf> = [("tread", &small), ("flange", &flange)]
+        .into_iter()
+        .map(|(name, axes)| {
+            let dir = std::env::temp_dir().join(format!(
+                "wheelrail-fmu-tables-{name}-{}",
+                std::process::id()
+            ));
+            let mut files = wheelrail::table::build(&params, axes, None, &|| ()).unwrap();
+            files.write(&dir).unwrap();
+            dir
+        })
+        .collect();
+    let make = |name: &str, mode: i32, table_file: &str| {
+        let f = Fmu::new(name, None);
+        assert_eq!(f.set_int("mode", mode), OK);
+        let s = CString::new(table_file).unwrap();
+        assert_eq!(
+            unsafe { (fmi().set_string)(f.c, &vr("table_file"), 1, &s.as_ptr()) },
+            OK
+        );
+        let status = f.init();
+        (f, status)
+    };
+    let path = |d: &PathBuf| d.to_str().unwrap().to_string();
+    let both = format!("{};{}", path(&dirs[0]), path(&dirs[1]));
+    let (set, status) = make("set", 0, &both);
+    assert_eq!(status, OK, "{:?}", set.messages());
+    let (tread, _) = make("tread", 0, &path(&dirs[0]));
+    let (root_only, _) = make("flange", 0, &path(&dirs[1]));
+    // the default contact: the tread table; a flange-root ellipse (a/b 2.2, p_ref 1.1 GPa): the other
+    let [a, b] = wheelrail::table::coords::semi_axes(2.2, 1.1e9, 100e3);
+    for (semi_axes, alone) in [([0.0, 0.0], &tread), ([a, b], &root_only)] {
+        for f in [&set, alone] {
+            assert_eq!(f.set("semi_axis_a", semi_axes[0]), OK);
+            assert_eq!(f.set("semi_axis_b", semi_axes[1]), OK);
+            assert_eq!(f.set("creepage_longitudinal", 0.003), OK);
+            assert_eq!(f.step(0.0), OK, "{:?}", f.messages());
+            assert_eq!(f.get_int("evaluation_mode"), 1);
+        }
+        assert_eq!(set.forces(), alone.forces(), "{semi_axes:?}");
+        assert!(set.forces()[0] < 0.0, "{:?}", set.forces());
+    }
+    // an ellipse between them (a/b 1): the exact solver, one warning naming both tables
+    let [a, b] = wheelrail::table::coords::semi_axes(1.0, 0.9e9, 100e3);
+    assert_eq!(set.set("semi_axis_a", a), OK);
+    assert_eq!(set.set("semi_axis_b", b), OK);
+    assert_eq!(set.step(0.0), WARNING);
+    assert_eq!(set.get_int("evaluation_mode"), 2);
+    assert_eq!(set.step(0.0), OK);
+    let warnings: Vec<String> = set
+        .messages()
+        .into_iter()
+        .filter(|m| m.status == WARNING)
+        .map(|m| m.text)
+        .collect();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(
+        warnings[0].contains("contact geometry") && warnings[0].contains(&both.replace(';', "; ")),
+        "{warnings:?}"
+    );
+    // a missing table: mode 0 warns and uses the other, mode 1 refuses
+    let with_missing = format!("{};/nonexistent/table", path(&dirs[0]));
+    let (f, status) = make("missing", 0, &with_missing);
+    assert_eq!(status, WARNING);
+    assert!(
+        f.messages()
+            .iter()
+            .any(|m| m.text.contains("no lookup table at /nonexistent/table")
+                && m.text.contains("using the other lookup tables")),
+        "{:?}",
+        f.messages()
+    );
+    assert_eq!(f.step(0.0), OK);
+    assert_eq!(f.get_int("evaluation_mode"), 1);
+    let (f, status) = make("missing-only", 1, &with_missing);
+    assert_eq!(status, ERROR);
+    assert!(f.last_error().contains("table only"), "{}", f.last_error());
+    for d in dirs {
+        std::fs::remove_dir_all(d).unwrap();
+    }
+}

@@ -786,3 +786,62 @@ fn a_table_of_the_exact_tangential_solver_records_it() {
     );
     cleanup("tangential-");
 }
+
+/// `point` with `--table` repeated: each point by the first table that covers its contact (bit for bit
+/// that table's result alone), a contact neither covers by the exact solver in auto mode (the warning
+/// names both tables) and refused in table mode.
+#[test]
+fn point_takes_several_tables_in_order() {
+    let flange_axes = SMALL_AXES
+        .replace("points = [0.5, 0.6]", "points = [2.0, 2.4]")
+        .replace("points = [0.7e9, 0.85e9]", "points = [1.0e9, 1.2e9]");
+    let (params, tread_axes) = files("set-tread", SMALL_GRID, SMALL_AXES);
+    let (_, flange_axes) = files("set-flange", SMALL_GRID, &flange_axes);
+    let (tread, flange) = (tmp("set-tread-table"), tmp("set-flange-table"));
+    build(&params, &tread_axes, &tread, &[], "2");
+    build(&params, &flange_axes, &flange, &[], "2");
+    let ellipse = |ratio: f64, p_ref: f64| {
+        let [a, b] = wheelrail::table::coords::semi_axes(ratio, p_ref, 100e3);
+        format!("{a:e},{b:e}")
+    };
+    let point = |tables: &[&PathBuf], mode: &str, semi_axes: &str| {
+        let mut args = vec![
+            "point",
+            "--params",
+            s(&params),
+            "--creepage-x",
+            "0.002",
+            "--semi-axes",
+            semi_axes,
+            "--mode",
+            mode,
+            "--json",
+        ];
+        for t in tables {
+            args.extend(["--table", s(t)]);
+        }
+        wheelrail(&args, None)
+    };
+    let json = |o: &Output| -> serde_json::Value { serde_json::from_str(ok(o).trim()).unwrap() };
+    for (semi_axes, alone) in [
+        (ellipse(0.55, 0.77e9), &tread),
+        (ellipse(2.2, 1.1e9), &flange),
+    ] {
+        let both = json(&point(&[&tread, &flange], "table", &semi_axes));
+        assert_eq!(both["evaluation"], "table", "{both}");
+        assert_eq!(both, json(&point(&[alone], "table", &semi_axes)));
+    }
+    // between the two: exact in auto mode, with a warning naming both; refused in table mode
+    let between = ellipse(1.0, 0.9e9);
+    let o = point(&[&tread, &flange], "auto", &between);
+    assert_eq!(json(&o)["evaluation"], "exact");
+    let warning = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        warning.contains(&format!("{}; {}", s(&tread), s(&flange)))
+            && warning.contains("another contact geometry"),
+        "{warning}"
+    );
+    let o = point(&[&tread, &flange], "table", &between);
+    assert_eq!(o.status.code(), Some(1));
+    cleanup("set-");
+}

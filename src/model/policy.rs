@@ -345,6 +345,16 @@ impl Evaluator {
         &self.tables
     }
 
+    /// The tables' locations ([`Table::location`]) separated by "; ", `<none>` without a table (for
+    /// messages).
+    pub fn table_locations(&self) -> String {
+        if self.tables.is_empty() {
+            return "<none>".into();
+        }
+        let at: Vec<String> = self.tables.iter().map(|t| t.location()).collect();
+        at.join("; ")
+    }
+
     /// The settings.
     pub fn policy(&self) -> &Policy {
         &self.policy

@@ -47,9 +47,10 @@ pub struct PointArgs {
     #[arg(long)]
     json: bool,
     /// Evaluate by interpolation in the lookup table in DIR (built for the same parameters) instead of
-    /// the exact solver (everywhere, or only where usable: see --mode).
+    /// the exact solver (everywhere, or only where usable: see --mode); repeated, several tables, each
+    /// point by the first that covers its contact and holds it inside its ranges.
     #[arg(long, value_name = "DIR")]
-    table: Option<PathBuf>,
+    table: Vec<PathBuf>,
     /// How the point is evaluated [default: table with --table, else exact]; auto and table need --table.
     #[arg(long, value_enum)]
     mode: Option<ModeArg>,
@@ -59,23 +60,27 @@ pub struct PointArgs {
 pub fn run(a: &PointArgs) -> Result<()> {
     let model = Model::new(a.model.params()?)?;
     let input = a.model.input()?;
-    let mode = match (a.mode, &a.table) {
-        (Some(m), _) => m.into(),
-        (None, Some(_)) => Mode::TableOnly,
-        (None, None) => Mode::ExactOnly,
+    let mode = match a.mode {
+        Some(m) => m.into(),
+        None if a.table.is_empty() => Mode::ExactOnly,
+        None => Mode::TableOnly,
     };
-    let table = match (&a.table, mode) {
-        (_, Mode::ExactOnly) => None,
-        (Some(dir), _) => Some(Arc::new(Table::load(dir)?)),
-        (None, mode) => {
-            return Err(Error::NoTable { mode }).context("give --table DIR, or --mode exact");
-        }
+    if mode != Mode::ExactOnly && a.table.is_empty() {
+        return Err(Error::NoTable { mode }).context("give --table DIR, or --mode exact");
+    }
+    let tables = match mode {
+        Mode::ExactOnly => Vec::new(),
+        _ => a
+            .table
+            .iter()
+            .map(|dir| Table::load(dir).map(Arc::new))
+            .collect::<wheelrail::Result<Vec<_>>>()?,
     };
     let policy = Policy {
         minimum_speed: MINIMUM_SPEED,
         ..Policy::default()
     };
-    let evaluator = Evaluator::new(model, mode, table, policy)?;
+    let evaluator = Evaluator::with_tables(model, mode, tables, policy)?;
     let e = evaluator
         .evaluate(&input, None, &mut None)
         .or_else(|e| match e {
@@ -106,11 +111,11 @@ fn warn(evaluator: &Evaluator, e: &Evaluation) {
             ),
             Notice::FellBack(Fallback::OtherParameters) => eprintln!(
                 "warning: the table at {} was built for other parameters; the exact solver evaluates the point",
-                evaluator.table().map_or("<none>".into(), |t| t.location())
+                evaluator.table_locations()
             ),
             Notice::FellBack(Fallback::OtherGeometry) => eprintln!(
                 "warning: the table at {} was built for another contact geometry; the exact solver evaluates the point",
-                evaluator.table().map_or("<none>".into(), |t| t.location())
+                evaluator.table_locations()
             ),
             Notice::Clamped => eprintln!(
                 "warning: the point lies outside the table's ranges; each coordinate was clamped to its range"

@@ -27,18 +27,20 @@ pub fn table_location(table_file: &str, resources: Option<&Path>) -> Option<Path
     }
 }
 
-/// The table of `mode` at a location (loaded once per process and directory, shared read-only between
-/// instances), and the warning to log once if mode auto goes without one (then every point is solved
-/// exactly). Mode exact only needs none; in mode table only, no usable table is an error. A table of
-/// format version 1 is not usable: it does not store the frictional power.
-pub fn resolve(
-    mode: Mode,
-    location: Option<&Path>,
-) -> Result<(Option<Arc<Table>>, Option<String>), String> {
-    if mode == Mode::ExactOnly {
-        return Ok((None, None));
-    }
-    let loaded = match location {
+/// Where the lookup tables are, in the order they are tried: `table_file` holds one table directory or
+/// several separated by `;`, each as [`table_location`] (an empty entry is the bundled table, e.g.
+/// `/tables/flange;` for a table of flange-root contacts, then the bundled one).
+pub fn table_locations(table_file: &str, resources: Option<&Path>) -> Vec<Option<PathBuf>> {
+    table_file
+        .split(';')
+        .map(|entry| table_location(entry, resources))
+        .collect()
+}
+
+/// The table at a location (loaded once per process and directory, shared read-only between instances),
+/// or why it is not usable. A table of format version 1 is not: it does not store the frictional power.
+fn load(location: Option<&Path>) -> Result<Arc<Table>, String> {
+    match location {
         None => Err("table_file is empty and the FMU's resources directory is unknown".into()),
         Some(p) if !p.exists() => Err(format!("there is no lookup table at {}", p.display())),
         Some(p) => match Table::load_shared(p) {
@@ -51,14 +53,41 @@ pub fn resolve(
             )),
             Ok(t) => Ok(t),
         },
-    };
-    match (mode, loaded) {
-        (_, Ok(table)) => Ok((Some(table), None)),
-        (Mode::TableOnly, Err(why)) => Err(format!(
-            "mode 1 (table only) needs a usable lookup table, but {why}"
-        )),
-        (_, Err(why)) => Ok((None, Some(format!("{why}; using the exact solver")))),
     }
+}
+
+/// The tables of `mode` at `locations` ([`table_locations`]), and the warning to log once if mode auto
+/// goes without some of them (without all, every point is solved exactly). Mode exact only needs none;
+/// in mode table only, a table that is not usable is an error.
+pub fn resolve(
+    mode: Mode,
+    locations: &[Option<PathBuf>],
+) -> Result<(Vec<Arc<Table>>, Option<String>), String> {
+    if mode == Mode::ExactOnly {
+        return Ok((Vec::new(), None));
+    }
+    let mut tables = Vec::new();
+    let mut unusable = Vec::new();
+    for location in locations {
+        match load(location.as_deref()) {
+            Ok(t) => tables.push(t),
+            Err(why) if mode == Mode::TableOnly => {
+                return Err(format!(
+                    "mode 1 (table only) needs a usable lookup table, but {why}"
+                ));
+            }
+            Err(why) => unusable.push(why),
+        }
+    }
+    let warning = (!unusable.is_empty()).then(|| {
+        let rest = if tables.is_empty() {
+            "using the exact solver"
+        } else {
+            "using the other lookup tables and the exact solver"
+        };
+        format!("{}; {rest}", unusable.join("; "))
+    });
+    Ok((tables, warning))
 }
 
 #[cfg(test)]
@@ -77,22 +106,32 @@ mod tests {
             PathBuf::from("/x/t")
         );
         assert_eq!(table_location("", None), None);
-        let (table, warning) = resolve(Mode::ExactOnly, None).unwrap();
-        assert!(table.is_none() && warning.is_none());
-        let (table, warning) = resolve(Mode::Auto, Some(&loc)).unwrap();
-        assert!(table.is_none());
+        // several tables separated by ';', an empty entry the bundled one
+        assert_eq!(table_locations("", Some(res)), [Some(res.join("table"))]);
+        assert_eq!(
+            table_locations("/x/t;/y/u;", Some(res)),
+            [
+                Some(PathBuf::from("/x/t")),
+                Some(PathBuf::from("/y/u")),
+                Some(res.join("table"))
+            ]
+        );
+        let (table, warning) = resolve(Mode::ExactOnly, &[None]).unwrap();
+        assert!(table.is_empty() && warning.is_none());
+        let (table, warning) = resolve(Mode::Auto, &[Some(loc.clone())]).unwrap();
+        assert!(table.is_empty());
         assert!(
             warning
                 .unwrap()
                 .contains("no lookup table at /nonexistent/resources/table")
         );
-        let err = resolve(Mode::TableOnly, Some(&loc)).unwrap_err();
+        let err = resolve(Mode::TableOnly, &[Some(loc.clone())]).unwrap_err();
         assert!(
             err.contains("table only") && err.contains("/nonexistent"),
             "{err}"
         );
         assert!(
-            resolve(Mode::TableOnly, None)
+            resolve(Mode::TableOnly, &[None])
                 .unwrap_err()
                 .contains("resources directory is unknown")
         );
@@ -119,8 +158,8 @@ mod tests {
         }
         drop(t);
         files.write(&dir).unwrap();
-        let (table, warning) = resolve(Mode::Auto, Some(&dir)).unwrap();
-        assert!(table.is_none());
+        let (table, warning) = resolve(Mode::Auto, &[Some(dir.clone())]).unwrap();
+        assert!(table.is_empty());
         let warning = warning.unwrap();
         assert!(
             warning.contains("computed by another model")
@@ -128,7 +167,7 @@ mod tests {
             "{warning}"
         );
         assert!(
-            resolve(Mode::TableOnly, Some(&dir))
+            resolve(Mode::TableOnly, &[Some(dir.clone())])
                 .unwrap_err()
                 .contains("computed by another model")
         );

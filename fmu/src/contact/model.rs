@@ -34,7 +34,7 @@
 //! the last accepted point and leaves it ([`Model::calculate_trial`]), so that an integrator's repeated
 //! evaluations give the same outputs for the same inputs, and [`Model::accept`] advances it.
 
-use super::mode::{mode_of, resolve, table_location};
+use super::mode::{mode_of, resolve, table_locations};
 use super::state::ContactState;
 use super::variables::*;
 use crate::fmi2::derivative::forward_difference;
@@ -48,7 +48,7 @@ use wheelrail::model::{
     Mode::ExactOnly, Notice, Notices, Policy, WarmStart,
 };
 use wheelrail::params::{Geometry, Key, Param, Tangential};
-use wheelrail::table::{Jacobian, Table, TableOutput};
+use wheelrail::table::{Jacobian, TableOutput};
 use wheelrail::{Error, OperatingPoint, Params};
 
 /// Relative finite-difference step of directional derivatives (times max(|u|, nominal) per input) [-].
@@ -148,17 +148,17 @@ impl Setup {
             }
             old => {
                 let old = old.as_deref();
-                let (library_mode, table) = match old.filter(|s| same_table(s)) {
-                    Some(s) => (s.evaluator.mode(), s.evaluator.table().cloned()),
+                let (library_mode, tables) = match old.filter(|s| same_table(s)) {
+                    Some(s) => (s.evaluator.mode(), s.evaluator.tables().to_vec()),
                     None => {
                         let library_mode = mode_of(mode)?;
-                        let location = table_location(table_file, resources);
-                        let (table, warning) = resolve(library_mode, location.as_deref())?;
+                        let locations = table_locations(table_file, resources);
+                        let (tables, warning) = resolve(library_mode, &locations)?;
                         if let Some(w) = warning {
                             log.warning(&format!("mode 0 (auto): {w}"));
                             status = Status::Warning;
                         }
-                        (library_mode, table)
+                        (library_mode, tables)
                     }
                 };
                 let model = match old.filter(|s| s.key == key) {
@@ -172,7 +172,7 @@ impl Setup {
                 };
                 let exact = Evaluator::new(model.clone(), ExactOnly, None, policy)
                     .map_err(|e| e.to_string())?;
-                let evaluator = Evaluator::new(model, library_mode, table, policy)
+                let evaluator = Evaluator::with_tables(model, library_mode, tables, policy)
                     .map_err(|e| e.to_string())?;
                 Box::new(Setup {
                     mode,
@@ -200,7 +200,8 @@ struct Warned {
 
 impl Warned {
     /// Logs the notices not logged before by this instance (as warnings; `status` becomes Warning).
-    fn log(&mut self, notices: &Notices, table: Option<&Table>, log: &Logger, status: &mut Status) {
+    fn log(&mut self, notices: &Notices, evaluator: &Evaluator, log: &Logger, status: &mut Status) {
+        let at = || evaluator.table_locations();
         for notice in notices.iter() {
             let message = match notice {
                 Notice::WetnessClamped { .. } if self.wetness => continue,
@@ -215,7 +216,7 @@ impl Warned {
                     let why = match why {
                         Fallback::OtherParameters => format!(
                             "the parameters differ from those the lookup table at {} was built for",
-                            table.map_or("<none>".into(), Table::location)
+                            at()
                         ),
                         Fallback::OutsideRanges => {
                             "an operating point lies outside the lookup table's ranges".into()
@@ -223,7 +224,7 @@ impl Warned {
                         Fallback::OtherGeometry => format!(
                             "the contact geometry (curvature_longitudinal, curvature_lateral, semi_axis_a, \
                              semi_axis_b) differs from the one the lookup table at {} was built for",
-                            table.map_or("<none>".into(), Table::location)
+                            at()
                         ),
                     };
                     format!(
@@ -417,8 +418,8 @@ impl WheelRailModel {
         }
         let e = result.map_err(|e| fmu_error(e, values))?;
         if !e.notices.is_empty() {
-            let table = setup.evaluator.table().map(AsRef::as_ref);
-            self.warned.log(&e.notices, table, log, &mut status);
+            self.warned
+                .log(&e.notices, &setup.evaluator, log, &mut status);
         }
         let mode = evaluation_mode(&e.by, evaluator);
         Ok((e, mode, status))
@@ -476,8 +477,7 @@ impl WheelRailModel {
                 let (jac, notices) = (setup.evaluator)
                     .table_jacobian_at(&at, &shape)
                     .map_err(|e| fmu_error(e, values))?;
-                let table = setup.evaluator.table().map(AsRef::as_ref);
-                self.warned.log(&notices, table, log, &mut Status::Ok);
+                (self.warned).log(&notices, &setup.evaluator, log, &mut Status::Ok);
                 let Some(jac) = jac else {
                     return Ok(None);
                 };

@@ -92,7 +92,7 @@ pub const H_F_MAX: usize = parameter_vr(Param::HFMax);
 pub const GRID_SIZE: usize = 22;
 /// `mode` (0 auto, 1 table only, 2 exact only).
 pub const MODE: usize = 23;
-/// `table_file` (empty: the bundled table).
+/// `table_file` (one or several table directories separated by `;`; empty: the bundled table).
 pub const TABLE_FILE: usize = 24;
 /// `minimum_speed` [m/s].
 pub const MINIMUM_SPEED: usize = 25;
@@ -404,7 +404,7 @@ const OWN_VARIABLES: [Variable; 20] = [
         causality: Causality::Parameter,
         variability: Variability::Fixed,
         kind: Kind::String { start: Some("") },
-        description: "Lookup table location; empty: the table bundled in the FMU's resources/table",
+        description: "Lookup table location, or several separated by ';', tried in order for each step; empty (or an empty entry): the table bundled in the FMU's resources/table",
     },
     own_parameter(
         "minimum_speed",
