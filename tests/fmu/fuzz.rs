@@ -171,6 +171,8 @@ impl TableArg {
 enum Str {
     Null,
     Table(TableArg),
+    /// Several tables separated by `;` (a trailing `;`: then the bundled one).
+    Tables(Vec<TableArg>, bool),
     Text(String),
     /// Bytes that are not UTF-8.
     Bytes(Vec<u8>),
@@ -181,6 +183,13 @@ impl Str {
         match self {
             Str::Null => None,
             Str::Table(t) => Some(CString::new(t.path()).unwrap()),
+            Str::Tables(t, bundled) => {
+                let mut s: Vec<String> = t.iter().map(|t| t.path()).collect();
+                if *bundled {
+                    s.push(String::new());
+                }
+                Some(CString::new(s.join(";")).unwrap())
+            }
             Str::Text(s) => Some(CString::new(s.as_str()).unwrap()),
             Str::Bytes(b) => Some(CString::new(b.clone()).unwrap()),
         }
@@ -321,6 +330,20 @@ fn gen_str(r: &mut Rng) -> Str {
         6 => Str::Text(String::new()),
         7 => Str::Null,
         8 => Str::Bytes(vec![b'/', 0xff, 0xfe, b'%', b's']),
+        _ if r.chance(0.5) => {
+            let n = 1 + r.below(3) as usize;
+            let tables = (0..n)
+                .map(|_| {
+                    r.pick(&[
+                        TableArg::Small,
+                        TableArg::Bundled,
+                        TableArg::Missing,
+                        TableArg::Corrupt(0),
+                    ])
+                })
+                .collect();
+            Str::Tables(tables, r.chance(0.3))
+        }
         _ => Str::Text("%s%s%n%x #r0# garbage/table".into()),
     }
 }
