@@ -558,6 +558,10 @@ fn verify_passes_a_good_table_and_fails_a_stale_one() {
         text.contains("by cell of each axis") && text.contains(" *\n"),
         "{text}"
     );
+    assert!(
+        text.contains("T_max target (p99 <= 10 K, reported only): "),
+        "{text}"
+    );
     cleanup("ver-");
 }
 

@@ -22,6 +22,8 @@ use serde::Serialize;
 pub const TARGET_P99: f64 = 0.01;
 /// Target maximum of |ΔF|/F_N.
 pub const TARGET_MAX: f64 = 0.03;
+/// Target p99 of |ΔT_max| of issue 13 [K] (reported; `table verify`'s exit status is the force target's).
+pub const TARGET_TEMPERATURE_P99: f64 = 10.0;
 
 /// SplitMix64 (Steele, Lea & Flood 2014): a small, seedable, platform-independent generator.
 #[derive(Debug, Clone)]
@@ -246,6 +248,11 @@ impl VerifyReport {
             && self.force.p99 <= TARGET_P99
             && self.force.max <= TARGET_MAX
             && self.table_unconverged == 0
+    }
+
+    /// Whether p99 of |ΔT_max| meets issue 13's target ([`TARGET_TEMPERATURE_P99`]).
+    pub fn meets_temperature_target(&self) -> bool {
+        self.compared > 0 && self.max_temperature.p99 <= TARGET_TEMPERATURE_P99
     }
 }
 
@@ -480,5 +487,17 @@ mod tests {
         // mirrored samples were binned by their mirror image
         assert!(kept.iter().any(|k| k.sample.point.creepage_x < 0.0));
         assert!(kept.iter().any(|k| k.sample.point.creepage_y < 0.0));
+        // T_max errors 0.1·k K: p99 above 10 K; a tenth of them below
+        assert!(r.max_temperature.p99 > TARGET_TEMPERATURE_P99 && !r.meets_temperature_target());
+        let cooler: Vec<Option<Compared>> = compared
+            .iter()
+            .map(|c| {
+                c.clone().map(|mut c| {
+                    c.errors[3] *= 0.1;
+                    c
+                })
+            })
+            .collect();
+        assert!(report(&t, &cooler).meets_temperature_target());
     }
 }

@@ -9,7 +9,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use wheelrail::table::file::{ShardRecord, TableFiles};
-use wheelrail::table::verify::{self, TARGET_MAX, TARGET_P99, VerifyReport};
+use wheelrail::table::verify::{
+    self, TARGET_MAX, TARGET_P99, TARGET_TEMPERATURE_P99, VerifyReport,
+};
 use wheelrail::table::{self, Axes, DIMENSIONS, Table, TableOutput, coords};
 use wheelrail::{OperatingPoint, Params};
 use wheelrail_cli::slurm::{self, SlurmJob};
@@ -488,6 +490,14 @@ fn print_report(r: &VerifyReport, seconds: f64) {
     println!(
         "target (p99 <= {TARGET_P99}, max <= {TARGET_MAX}): {}",
         if r.meets_target() { "met" } else { "MISSED" }
+    );
+    println!(
+        "T_max target (p99 <= {TARGET_TEMPERATURE_P99} K, reported only): {}",
+        if r.meets_temperature_target() {
+            "met"
+        } else {
+            "missed"
+        }
     );
 }
 
