@@ -777,26 +777,21 @@ impl Table {
                     // the corner sums at the lower and the upper φ̂ node in memory; a0 at k0, a1 at k0 + 1
                     let (lo, hi) = pair.split_at(ROW);
                     let (a0, a1) = if fy { (hi, lo) } else { (lo, hi) };
-                    let mut acc_d = [[[0.0; L]; ROW]; 2];
-                    for (c, o) in off.iter().enumerate() {
-                        for (e, ad) in acc_d.iter_mut().enumerate() {
-                            let row = &rows[base + o + usize::from(fy != (e == 1))].0;
-                            for o in 0..ROW {
-                                for (k, dlk) in dl.iter().enumerate() {
-                                    ad[o][k] += dlk[c] * f64::from(row[o]);
-                                }
-                            }
-                        }
+                    // the corner sums with the weights' derivatives along each linear dimension
+                    // instead of the weights, in memory order as `pair` (by the same kernel; its
+                    // Hermite stage is not needed here); the rows at k0 and k0 + 1 start at m0, m1
+                    let mut dpair = [[0.0; 2 * ROW]; L];
+                    for (dp, dlk) in dpair.iter_mut().zip(&dl) {
+                        corner_sum::<FMA, true>(rows, base, off, max_off, &dlk[..off.len()], h, dp);
                     }
+                    let (m0, m1) = if fy { (ROW, 0) } else { (0, ROW) };
                     for o in 0..OUTPUTS {
                         let (y0, d0) = (sv[o] * a0[VAL[o]], sd[o] * a0[SLOPE[o]]);
                         let (y1, d1) = (sv[o] * a1[VAL[o]], sd[o] * a1[SLOPE[o]]);
-                        for k in 0..L {
+                        for (k, dp) in dpair.iter().enumerate() {
                             t1[i][j][o][k] = sv[o]
-                                * (hw[0] * acc_d[0][VAL[o]][k] + hw[2] * acc_d[1][VAL[o]][k])
-                                + sd[o]
-                                    * (hw[1] * acc_d[0][SLOPE[o]][k]
-                                        + hw[3] * acc_d[1][SLOPE[o]][k]);
+                                * (hw[0] * dp[m0 + VAL[o]] + hw[2] * dp[m1 + VAL[o]])
+                                + sd[o] * (hw[1] * dp[m0 + SLOPE[o]] + hw[3] * dp[m1 + SLOPE[o]]);
                         }
                         t1[i][j][o][L] = hdw[0] * y0 + hdw[1] * d0 + hdw[2] * y1 + hdw[3] * d1;
                     }
