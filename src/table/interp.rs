@@ -534,11 +534,18 @@ impl AxisInterp {
         }
     }
 
+    /// Interval (cell) of `x` on an axis of at least two points: i with x_i ≤ x < x_(i+1), the last for
+    /// x at the last point, the first or the last for x outside the range.
+    #[inline(always)]
+    pub(crate) fn interval(&self, x: f64) -> usize {
+        let n = self.points.len();
+        self.points.partition_point(|p| *p <= x).clamp(1, n - 1) - 1
+    }
+
     /// Interval of `x` (inside the stored range) and the local coordinate t ∈ [0, 1].
     #[inline(always)]
     fn locate(&self, x: f64) -> (usize, f64) {
-        let n = self.points.len();
-        let i = self.points.partition_point(|p| *p <= x).clamp(1, n - 1) - 1;
+        let i = self.interval(x);
         (i, (x - self.points[i]) * self.inv_h[i])
     }
 

@@ -200,7 +200,7 @@ pub struct CellErrors {
 
 /// Per cell of every axis of `table` with more than one point, the force and T_max errors of the compared
 /// samples inside it (a sample on a point between two cells counts in the upper one; one outside an axis'
-/// range, in the nearest cell).
+/// range, in the nearest cell: the lookup's intervals, `AxisInterp::interval`).
 fn cell_errors(table: &Table, compared: &[&Compared]) -> Vec<CellErrors> {
     let coordinates: Vec<Option<[f64; DIMS]>> = compared
         .iter()
@@ -213,19 +213,17 @@ fn cell_errors(table: &Table, compared: &[&Compared]) -> Vec<CellErrors> {
     let mut cells = Vec::new();
     for (d, axis) in table.axes().0.iter().enumerate() {
         let points = &axis.points;
-        for (i, w) in points.windows(2).enumerate() {
-            let inside: Vec<&Compared> = compared
-                .iter()
-                .zip(&coordinates)
-                .filter_map(|(c, q)| {
-                    let x = q.as_ref()?[d];
-                    let cell = points
-                        .partition_point(|p| *p <= x)
-                        .clamp(1, points.len() - 1)
-                        - 1;
-                    (cell == i).then_some(*c)
-                })
-                .collect();
+        if points.len() < 2 {
+            continue;
+        }
+        // each sample's cell along this axis, once
+        let mut inside: Vec<Vec<&Compared>> = vec![Vec::new(); points.len() - 1];
+        for (c, q) in compared.iter().zip(&coordinates) {
+            if let Some(q) = q {
+                inside[table.interp[d].interval(q[d])].push(*c);
+            }
+        }
+        for (w, inside) in points.windows(2).zip(inside) {
             let column = |k: usize| inside.iter().map(|c| c.errors[k]).collect::<Vec<f64>>();
             cells.push(CellErrors {
                 axis: DIMENSIONS[d].name,

@@ -477,7 +477,8 @@ impl WheelRailModel {
                 let (jac, notices) = (setup.evaluator)
                     .table_jacobian_at(&at, &shape)
                     .map_err(|e| fmu_error(e, values))?;
-                (self.warned).log(&notices, &setup.evaluator, log, &mut Status::Ok);
+                self.warned
+                    .log(&notices, &setup.evaluator, log, &mut Status::Ok);
                 let Some(jac) = jac else {
                     return Ok(None);
                 };
