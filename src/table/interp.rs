@@ -116,8 +116,8 @@ fn simplex_weights(
     ws
 }
 
-/// The corners of the linear stencil as row offsets, for evaluations without derivatives: per corner (in
-/// the order of [`Corners::of`]) Σ_d (start_d + step_d)·stride_d and its weight, for the first `n`.
+/// The corners of the linear stencil as row offsets: per corner (in the order of [`Corners::of`])
+/// Σ_d (start_d + step_d)·stride_d and its weight, for the first `n`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Offsets {
     /// Number of corners.
@@ -164,6 +164,22 @@ impl Offsets {
             }
         }
         c
+    }
+
+    /// The corners of non-zero weight only, in the same order, for evaluations without derivatives. A
+    /// corner of weight 0 adds nothing to a value (0·y = 0 for finite y: the sums are bit for bit the same),
+    /// so its rows need not be read: a coordinate on a node of a multilinear axis (a dry contact's wetness 0)
+    /// halves the corners, one on a node of a simplicial axis leaves one corner of the simplex out.
+    #[inline(always)]
+    pub fn nonzero(mut self) -> Offsets {
+        // branch-free: each corner is written to slot n, which advances only past a non-zero weight
+        let mut n = 0;
+        for i in 0..self.n {
+            (self.off[n], self.w[n]) = (self.off[i], self.w[i]);
+            n += usize::from(self.w[i] != 0.0);
+        }
+        self.n = n;
+        self
     }
 }
 
@@ -792,7 +808,8 @@ mod tests {
         assert_eq!(one.fraction(7e8), Fraction::default());
     }
 
-    /// The offsets and weights of [`Offsets::of`] are those of [`Corners::of`]'s corners, in its order.
+    /// The offsets and weights of [`Offsets::of`] are those of [`Corners::of`]'s corners, in its order;
+    /// [`Offsets::nonzero`] keeps those of non-zero weight.
     #[test]
     fn offsets_are_the_corners_in_rows() {
         let mut rng = super::super::verify::SplitMix64::new(7);
@@ -813,20 +830,54 @@ mod tests {
             if k % 7 == 3 {
                 f[4].t = f[0].t;
             }
+            // coordinates on nodes: a multilinear and a simplicial one at the start (t = 0) or the end
+            // (t = 1) of their interval (a dry contact's wetness 0, the last node of an axis)
+            if k % 4 == 0 {
+                f[2].t = 0.0;
+            }
+            if k % 6 == 1 {
+                f[1].t = 1.0;
+            }
+            if k % 9 == 4 {
+                f[0].t = 0.0;
+            }
+            if k % 11 == 5 {
+                f[3].t = 1.0;
+            }
             let c = Corners::of(&f);
-            let o = Offsets::of(&f, &strides);
-            assert_eq!(o.n, c.n);
-            for i in 0..c.n {
-                let want: usize = (0..LINEAR_DIMS)
+            let all = Offsets::of(&f, &strides);
+            let o = all.nonzero();
+            assert_eq!(all.n, c.n);
+            let want = |i: usize| -> (usize, u64) {
+                let off = (0..LINEAR_DIMS)
                     .map(|d| (c.start[d] + c.step[i][d]) * strides[d])
                     .sum();
-                assert_eq!(
-                    (o.off[i], o.w[i].to_bits()),
-                    (want, c.w[i].to_bits()),
-                    "{k} {i}"
-                );
+                (off, c.w[i].to_bits())
+            };
+            for i in 0..c.n {
+                assert_eq!((all.off[i], all.w[i].to_bits()), want(i), "{k} {i}");
             }
+            let kept: Vec<usize> = (0..c.n).filter(|i| c.w[*i] != 0.0).collect();
+            assert_eq!(o.n, kept.len(), "{k}");
+            if f.iter().all(|x| x.t > 0.0 && x.t < 1.0) && k % 7 != 3 {
+                assert_eq!(o.n, c.n, "{k}: no corner of weight 0 inside the cell");
+            }
+            for (j, &i) in kept.iter().enumerate() {
+                assert_eq!((o.off[j], o.w[j].to_bits()), want(i), "{k} {i}");
+            }
+            let total: f64 = o.w[..o.n].iter().sum();
+            assert!((total - 1.0).abs() < 1e-12, "{k}: weights sum to {total}");
         }
+        // a dry contact (wetness on its first node) reads half the corners
+        let f: [Fraction; LINEAR_DIMS] = std::array::from_fn(|d| Fraction {
+            start: 0,
+            t: if d == 2 { 0.0 } else { 0.1 + 0.2 * d as f64 },
+            inv_h: 1.0,
+        });
+        assert_eq!(
+            (Corners::of(&f).n, Offsets::of(&f, &strides).nonzero().n),
+            (16, 8)
+        );
     }
 
     /// The corner weights are a partition of unity, ≥ 0, interpolate data multilinear in (V, w) and affine

@@ -709,11 +709,13 @@ impl Table {
         let n_phi = self.axes.0[PHI].points.len() as isize;
         // the linear corners' row offsets from the creepage node and weights (with the Jacobian, also the
         // weights' derivatives)
+        // (a value reads only the corners of non-zero weight; the Jacobian needs every corner, whose
+        // weights' derivatives need not vanish with the weight)
         let stencil = Offsets::of(&fractions, &linear_strides);
-        let dl = if JAC {
-            Corners::of(&fractions).dw
+        let (stencil, dl) = if JAC {
+            (stencil, Corners::of(&fractions).dw)
         } else {
-            [[0.0; CORNERS]; L]
+            (stencil.nonzero(), [[0.0; CORNERS]; L])
         };
         let (off, wl) = (&stencil.off[..stencil.n], &stencil.w[..stencil.n]);
         let max_off = off.iter().copied().max().unwrap_or(0);
@@ -797,8 +799,10 @@ impl Table {
                     }
                 }
                 if !self.all_converged {
-                    converged &= off.iter().all(|o| {
-                        self.converged[base + o] == 1 && self.converged[base + o + 1] == 1
+                    // the nodes the value depends on (corners of non-zero weight), as in both paths
+                    converged &= off.iter().zip(wl).all(|(o, w)| {
+                        *w == 0.0
+                            || (self.converged[base + o] == 1 && self.converged[base + o + 1] == 1)
                     });
                 }
             }
