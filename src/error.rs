@@ -143,6 +143,7 @@ impl Error {
 }
 
 /// Checks that `value` is finite and inside `[lo, hi]`; the error names the value and the range.
+#[inline]
 pub fn check_range(name: &str, value: f64, lo: f64, hi: f64, unit: &str) -> Result<()> {
     if value.is_finite() && value >= lo && value <= hi {
         Ok(())
@@ -156,6 +157,7 @@ pub fn check_range(name: &str, value: f64, lo: f64, hi: f64, unit: &str) -> Resu
 }
 
 /// Checks that `value` is finite and strictly positive.
+#[inline]
 pub fn check_positive(name: &str, value: f64, unit: &str) -> Result<()> {
     if value.is_finite() && value > 0.0 {
         Ok(())
@@ -169,6 +171,7 @@ pub fn check_positive(name: &str, value: f64, unit: &str) -> Result<()> {
 }
 
 /// Checks that `value` is finite (any sign).
+#[inline]
 pub fn check_finite(name: &str, value: f64, unit: &str) -> Result<()> {
     if value.is_finite() {
         Ok(())
