@@ -2,13 +2,15 @@
 //! cells), each iteration sets a new longitudinal creepage (alternating between two values, so every step
 //! solves) and calls `fmi2DoStep`, dry and wet, with warm starts (the default) and without; and in table
 //! mode (issue 5 target ≤ 2 µs), with a small table built for a 6 × 6 grid first (the lookup cost does not
-//! depend on the grid), also with a new contact ellipse every step (random geometry). Also a step followed by the six columns of the Jacobian (one
+//! depend on the grid), also with a new contact ellipse every step (random geometry), dry and wet with all
+//! three creepages (the whole 16-corner stencil). Also a step followed by the six columns of the Jacobian (one
 //! `fmi2GetDirectionalDerivative` call per input, as a master asks), by table and exact. Run with
 //! `cargo bench -p wheelrail-fmu`.
 
 use WheelRailFriction::contact::model::{INPUTS, OUTPUTS};
 use WheelRailFriction::contact::variables::{
-    CREEPAGE_LONGITUDINAL, EVALUATION_MODE, SEMI_AXIS_A, SEMI_AXIS_B,
+    CREEPAGE_LATERAL, CREEPAGE_LONGITUDINAL, EVALUATION_MODE, SEMI_AXIS_A, SEMI_AXIS_B,
+    SPIN_CREEPAGE, WETNESS,
 };
 use WheelRailFriction::exports::*;
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -128,19 +130,34 @@ fn do_step_table(c: &mut Criterion) {
             fmu,
             [0.003, 0.0031],
         );
-        bench_random_geometry(c, fmu);
+        bench_random_geometry(c, "fmi2DoStep/table, dry, xi 0.3 %, random geometry", fmu);
+        // every linear corner weighted and every creepage off its nodes: the stencil in full
+        let vr = [
+            CREEPAGE_LATERAL as u32,
+            SPIN_CREEPAGE as u32,
+            WETNESS as u32,
+        ];
+        let x = [0.002, 0.1, 0.07];
+        assert_eq!(fmi2SetReal(fmu, vr.as_ptr(), 3, x.as_ptr()), 0);
+        bench_random_geometry(
+            c,
+            "fmi2DoStep/table, wet 0.07, xi 0.3 %, eta 0.2 %, spin 0.1/m, random geometry",
+            fmu,
+        );
         fmi2FreeInstance(fmu);
     }
     let _ = std::fs::remove_dir_all(dir);
 }
 
-/// Benchmarks a table step at a new contact every step, as an MBS run feeds it: each iteration sets the
-/// semi-axes (inputs `semi_axis_a`, `semi_axis_b`) of one of 1024 random ellipses inside the small
-/// table's geometry axes (a/b 0.5–0.6, p_ref 0.70–0.85 GPa at the default 100 kN) and calls `fmi2DoStep`.
+/// Benchmarks (as `name`) a table step at a new contact every step, as an MBS run feeds it: each iteration
+/// sets the semi-axes (inputs `semi_axis_a`, `semi_axis_b`) of one of 1024 random ellipses inside the small
+/// table's geometry axes (a/b 0.5–0.6, p_ref 0.70–0.85 GPa at the default 100 kN) and calls `fmi2DoStep`,
+/// the other inputs as set. A dry contact (wetness on its first node) reads half the linear corners of a
+/// wet one.
 ///
 /// # Safety
 /// `fmu` is a live, initialised instance in table-only mode with the small table.
-unsafe fn bench_random_geometry(c: &mut Criterion, fmu: *mut std::ffi::c_void) {
+unsafe fn bench_random_geometry(c: &mut Criterion, name: &str, fmu: *mut std::ffi::c_void) {
     let mut rng = wheelrail::table::verify::SplitMix64::new(13);
     let ellipses: Vec<[f64; 2]> = (0..1024)
         .map(|_| {
@@ -159,7 +176,7 @@ unsafe fn bench_random_geometry(c: &mut Criterion, fmu: *mut std::ffi::c_void) {
         assert_eq!(unsafe { fmi2DoStep(fmu, 0.0, 1e-3, 1) }, 0);
     }
     let mut k = 0usize;
-    c.bench_function("fmi2DoStep/table, dry, xi 0.3 %, random geometry", |b| {
+    c.bench_function(name, |b| {
         b.iter(|| {
             k = (k + 1) % ellipses.len();
             set(&ellipses[k]);
