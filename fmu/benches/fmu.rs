@@ -141,7 +141,7 @@ fn do_step_table(c: &mut Criterion) {
         assert_eq!(fmi2SetReal(fmu, vr.as_ptr(), 3, x.as_ptr()), 0);
         bench_random_geometry(
             c,
-            "fmi2DoStep/table, wet 0.07, xi 0.3 %, eta 0.2 %, spin 0.1/m, random geometry",
+            "fmi2DoStep/table, wet 0.07, xi 0.3 %, eta 0.2 %, spin 0.1 m-1, random geometry",
             fmu,
         );
         fmi2FreeInstance(fmu);
