@@ -456,3 +456,95 @@ fn the_reported_heat_residual_is_that_of_the_returned_heat_partition() {
         }
     }
 }
+
+/// The dimensionless outputs of one solve: F_x/F_N, F_y/F_N, M_z/(F_N·c), T_max [K], the fluid load
+/// fraction, P_f/(F_N·V), with c = sqrt(a·b).
+fn similarity_invariants(params: &Params, pt: &OperatingPoint) -> [f64; 6] {
+    let s = solve(params, pt).unwrap();
+    assert!(s.report.converged, "not converged: {:?}", s.report);
+    let g = &s.global;
+    let (f, c) = (pt.normal_force, (g.semi_axis_a * g.semi_axis_b).sqrt());
+    [
+        g.force_x / f,
+        g.force_y / f,
+        g.spin_moment.unwrap() / (f * c),
+        g.max_temperature.unwrap(),
+        g.fluid_load_fraction.unwrap_or(0.0),
+        g.frictional_power / (f * pt.speed),
+    ]
+}
+
+/// Similarity of the model (docs/model.md §9.1): a contact λ times as large at the same peak pressure
+/// (semi-axes λ·a, λ·b, so F_N → λ²·F_N; or curvatures A/λ, B/λ under Hertz) rolling at V/λ with spin φ/λ
+/// and the same ξ, η and wetness has the same dimensionless outputs. The contact's size and speed enter
+/// only through c·V: the heat (flux μ·p·V·ξ, Péclet number V·a/κ, temperature rise ∝ μ·p0·ξ·sqrt(a·V)),
+/// the film (transport by the surfaces ∝ V·h against pressure-driven flow ∝ h³·p0/(η·a)) and FASTSIM
+/// (spin slip φ·y over y ∝ c) — so a table needs no separate axes for F_N and V once p0 is one.
+/// Checked dry and wet, cool and hot (T_max up to ≈ 600 K), with both geometry inputs and both
+/// tangential theories, for λ from 1/4 to 2; and, as a control, that the size alone (V kept) does change
+/// the outputs.
+#[test]
+fn outputs_depend_on_size_and_speed_only_through_their_product() {
+    use wheelrail::params::{Geometry, Tangential};
+    let mut base = Params::default();
+    base.grid.nx = 10;
+    base.grid.ny = 10;
+    let pt = |w: f64| OperatingPoint {
+        creepage_x: 0.04,
+        creepage_y: -0.01,
+        spin: 0.4,
+        normal_force: 100e3,
+        speed: 30.0,
+        wetness: w,
+    };
+    let scaled = |p: &OperatingPoint, l: f64, speed_too: bool| OperatingPoint {
+        normal_force: p.normal_force * l * l,
+        speed: if speed_too { p.speed / l } else { p.speed },
+        spin: p.spin / l,
+        ..*p
+    };
+    let semi = |p: &Params, l: f64| {
+        let mut q = p.clone();
+        q.geometry = Geometry {
+            semi_axes: Some([0.006 * l, 0.010 * l]),
+            ..q.geometry
+        };
+        q
+    };
+    let curv = |p: &Params, l: f64| {
+        let mut q = p.clone();
+        q.geometry.curvature_x /= l;
+        q.geometry.curvature_y /= l;
+        q
+    };
+    let mut exact = base.clone();
+    exact.tangential = Tangential::Exact;
+    let cases: [(&Params, f64, &[f64]); 3] = [
+        (&base, 0.0, &[0.25, 0.5, 2.0]),
+        (&base, 0.1, &[0.5, 2.0]),
+        (&exact, 0.0, &[2.0]),
+    ];
+    for (params, w, lambdas) in cases {
+        for geometry in [semi, curv] {
+            let reference = similarity_invariants(&geometry(params, 1.0), &pt(w));
+            for &l in lambdas {
+                let other = similarity_invariants(&geometry(params, l), &scaled(&pt(w), l, true));
+                for (k, (x, y)) in other.iter().zip(&reference).enumerate() {
+                    assert!(
+                        (x - y).abs() <= 1e-9 * y.abs().max(1e-3),
+                        "output {k}, λ = {l}, w = {w}, {:?}: {x} against {y}",
+                        params.tangential
+                    );
+                }
+            }
+            // the control: twice the size at the same speed heats more (c·V doubled)
+            let bigger = similarity_invariants(&geometry(params, 2.0), &scaled(&pt(w), 2.0, false));
+            assert!(
+                bigger[3] > reference[3] + 5.0,
+                "T_max {} against {}",
+                bigger[3],
+                reference[3]
+            );
+        }
+    }
+}
