@@ -565,6 +565,131 @@ fn verify_passes_a_good_table_and_fails_a_stale_one() {
     cleanup("ver-");
 }
 
+/// A table built by the model's similarity (docs/model.md §9.1: `[speed] similarity = true`, the normal
+/// force axis 100 kN alone, the speed points equivalent speeds V·sqrt(F_N/100 kN)) serves contacts of every
+/// load: `table verify` samples loads 10–250 kN and meets the target there (the same bands as
+/// `verify_passes_a_good_table_and_fails_a_stale_one`'s table, whose F_N axis is 90–110 kN), each sample
+/// row is a real contact at its load (its exact columns are `wheelrail point`'s there) and `point --table`
+/// at a row gives the row's table columns; `table info` says so.
+#[test]
+fn a_table_by_similarity_serves_every_load() {
+    let axes = VERIFY_AXES
+        .replace(
+            "interpolation = \"log\"\npoints = [90e3, 110e3]",
+            "points = [100e3]",
+        )
+        .replace(
+            "[speed]\npoints = [27.0, 33.0]",
+            "[speed]\nsimilarity = true\npoints = [27.0, 33.0]",
+        );
+    assert!(axes.contains("similarity = true") && axes.contains("[100e3]"));
+    let (params, axes) = files("sim", SMALL_GRID, &axes);
+    let dir = tmp("sim-table");
+    build(&params, &axes, &dir, &[], "2");
+    let info = ok(&wheelrail(&["table", "info", s(&dir)], None));
+    assert!(
+        info.contains("similarity: equivalent speeds") && info.contains("F_N 1 × V 2"),
+        "{info}"
+    );
+    let csv = tmp("sim-samples.csv");
+    let o = wheelrail(
+        &[
+            "table",
+            "verify",
+            s(&dir),
+            "--samples",
+            "60",
+            "--json",
+            "--csv",
+            s(&csv),
+        ],
+        None,
+    );
+    let r: serde_json::Value = serde_json::from_str(ok(&o).trim()).unwrap();
+    assert_eq!(r["compared"], 60, "{r}");
+    let (p99, max) = (
+        r["force"]["p99"].as_f64().unwrap(),
+        r["force"]["max"].as_f64().unwrap(),
+    );
+    assert!(p99 <= 0.01 && max <= 0.03, "{r}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let loads: Vec<f64> = rows.iter().map(|row| row[col("normal_force")]).collect();
+    let (lo, hi) = loads
+        .iter()
+        .fold((f64::MAX, 0.0f64), |(a, b), f| (a.min(*f), b.max(*f)));
+    assert!(
+        lo >= 10e3 && lo < 40e3 && hi > 160e3 && hi <= 250e3,
+        "{lo} {hi}"
+    );
+    // the row of the load farthest from 100 kN
+    let row = rows
+        .iter()
+        .max_by(|a, b| {
+            let far = |r: &Vec<f64>| (r[col("normal_force")] / 100e3).ln().abs();
+            far(a).total_cmp(&far(b))
+        })
+        .unwrap();
+    let arg = |name: &str| format!("{:e}", row[col(name)]);
+    let point = |table: bool| {
+        let semi_axes = format!("{},{}", arg("semi_axis_a"), arg("semi_axis_b"));
+        let mut args = vec![
+            "point".to_string(),
+            "--params".into(),
+            s(&params).into(),
+            "--semi-axes".into(),
+            semi_axes,
+            "--json".into(),
+        ];
+        for (flag, name) in [
+            ("--creepage-x", "creepage_x"),
+            ("--creepage-y", "creepage_y"),
+            ("--spin", "spin"),
+            ("--normal-force", "normal_force"),
+            ("--speed", "speed"),
+            ("--wetness", "wetness"),
+        ] {
+            args.push(flag.into());
+            args.push(arg(name));
+        }
+        if table {
+            args.push("--table".into());
+            args.push(s(&dir).into());
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let v: serde_json::Value =
+            serde_json::from_str(ok(&wheelrail(&args, None)).trim()).unwrap();
+        v
+    };
+    for (table, prefix) in [(false, "exact_"), (true, "table_")] {
+        let v = point(table);
+        if table {
+            assert_eq!(
+                (&v["evaluation"], &v["in_range"]),
+                (&"table".into(), &true.into()),
+                "{v}"
+            );
+        }
+        for key in ["force_x", "max_temperature"] {
+            let (x, want) = (
+                v[key].as_f64().unwrap(),
+                row[col(&format!("{prefix}{key}"))],
+            );
+            // the command line's numbers pass through `{:e}` text: 1e-9 of the scale
+            assert!(
+                (x - want).abs() <= 1e-9 * want.abs().max(1.0),
+                "{prefix}{key}: {x} vs {want}"
+            );
+        }
+    }
+    cleanup("sim-");
+}
+
 #[test]
 fn point_by_table_has_the_exact_keys_and_agrees_at_table_points() {
     let (params, axes) = files("pt", SMALL_GRID, SMALL_AXES);

@@ -160,6 +160,11 @@ pub struct Axis {
     /// Linear axes: interpolated linearly in ln x ([`Interpolation::Log`]) instead of x.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub logarithmic: bool,
+    /// The speed axis of a table built by the model's similarity (docs/model.md §9.1): its points are
+    /// equivalent speeds V·sqrt(F_N/F_ref) at the reference load F_ref, the normal force axis is F_ref
+    /// alone, and the table serves every load (a contact maps to its equivalent at F_ref).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub similarity: bool,
 }
 
 impl Axis {
@@ -229,6 +234,10 @@ pub struct AxisSpec {
     /// Linear axes: `"log"` interpolates linearly in ln x (points > 0), `"linear"` (the default) in x;
     /// creepage axes are always `"cubic"`.
     pub interpolation: Option<Interpolation>,
+    /// The speed axis only: `true` builds the table by the model's similarity (docs/model.md §9.1): the
+    /// points are equivalent speeds V·sqrt(F_N/F_ref) at F_ref = 100 kN, the normal_force axis must be
+    /// `points = [100e3]`, and the table serves every load whose equivalent speed lies on the axis.
+    pub similarity: Option<bool>,
 }
 
 /// An axes file (TOML): one optional table per dimension; a missing one takes the default axis.
@@ -410,12 +419,17 @@ impl AxisSpec {
                 ));
             }
         };
+        let similarity = self.similarity.unwrap_or(false);
+        if similarity && dim != SPEED {
+            return Err(bad(dim, "only the speed axis takes similarity"));
+        }
         let axis = Axis {
             points,
             mirrored,
             raw_limit,
             raw_scale: self.raw_scale,
             logarithmic,
+            similarity,
         };
         validate_axis(dim, &axis)?;
         Ok(axis)
@@ -597,6 +611,23 @@ impl Axes {
         if !self.0[ETA].mirrored {
             return Err(bad(ETA, "must be mirrored"));
         }
+        if self
+            .0
+            .iter()
+            .enumerate()
+            .any(|(d, a)| a.similarity && d != SPEED)
+        {
+            return Err(bad(SPEED, "only the speed axis takes similarity"));
+        }
+        if self.similarity() && (self.0[FORCE].points != [REFERENCE_FORCE] || !self.normalised()) {
+            return Err(bad(
+                FORCE,
+                format!(
+                    "a table built by similarity (speed axis similarity = true) has the one normal \
+                     force point {REFERENCE_FORCE} N and normalised creepage axes"
+                ),
+            ));
+        }
         let phi = &self.0[PHI].points;
         if phi.iter().zip(phi.iter().rev()).any(|(a, b)| *a != -*b) {
             return Err(bad(
@@ -610,6 +641,12 @@ impl Axes {
     /// Whether the creepage axes are normalised by Kalker's linear theory (format version 1: raw).
     pub fn normalised(&self) -> bool {
         self.0[XI].raw_limit.is_some()
+    }
+
+    /// Whether the table is built by the model's similarity (docs/model.md §9.1): the speed axis holds
+    /// equivalent speeds at the reference load, which is the one normal force point.
+    pub fn similarity(&self) -> bool {
+        self.0[SPEED].similarity
     }
 
     /// Stored points per dimension.
@@ -805,6 +842,38 @@ mod tests {
             let spec: AxesSpec = toml::from_str(toml).unwrap();
             let e = Axes::from_spec(&spec).unwrap_err().to_string();
             assert!(e.contains(name) && e.contains("log"), "{e}");
+        }
+    }
+
+    #[test]
+    fn a_table_by_similarity_has_the_reference_load_alone_and_says_so_in_its_sidecar() {
+        let spec: AxesSpec = toml::from_str(
+            "[normal_force]\npoints = [100e3]\n[speed]\nsimilarity = true\npoints = [0.3, 3.0, 30.0]",
+        )
+        .unwrap();
+        let a = Axes::from_spec(&spec).unwrap();
+        assert!(a.similarity() && a.0[SPEED].similarity);
+        assert!(!Axes::default().similarity());
+        let records = crate::table::file::axis_records(&a);
+        assert!(records[SPEED].similarity && !records[FORCE].similarity);
+        // only on the speed axis, only with the one normal force point F_ref
+        for (toml, name) in [
+            (
+                "[wetness]\nsimilarity = true\npoints = [0.0, 1.0]",
+                "wetness",
+            ),
+            (
+                "[normal_force]\npoints = [50e3, 100e3]\n[speed]\nsimilarity = true\npoints = [1.0, 30.0]",
+                "normal_force",
+            ),
+            (
+                "[normal_force]\npoints = [50e3]\n[speed]\nsimilarity = true\npoints = [1.0, 30.0]",
+                "normal_force",
+            ),
+        ] {
+            let spec: AxesSpec = toml::from_str(toml).unwrap();
+            let e = Axes::from_spec(&spec).unwrap_err().to_string();
+            assert!(e.contains(name) && e.contains("similarity"), "{e}");
         }
     }
 

@@ -16,6 +16,11 @@
 //!   0.000–0.005 and 1–33 K at equal q). It also gives every contact nearly the same coordinate range up to
 //!   its raw limit (k_r·limit + (1 − k_r/k)·s), where ξ̂ spans 47–3200 × the limit over the geometry range.
 //! - Geometry: a/b and p_ref = p0·(F_ref/F_N)^(1/3), p0 = 3·F_N/(2π·a·b) (Hertz, docs/model.md §2).
+//! - **Similarity** (a table whose speed axis has `similarity`, docs/model.md §9.1): a contact (a, b, F_N,
+//!   V, φ) is located by its equivalent at the reference load F_ref — semi-axes (a, b)/s, speed V·s, spin
+//!   φ·s, s = sqrt(F_N/F_ref), the same ξ, η, w and p0 — whose outputs F/F_N, M_z/(F_N·c), T_max, fluid
+//!   share and P_f/(F_N·V) are the contact's own. So the coordinates are (ξ̂, η̂, φ̂, F_ref, V·s, w, a/b, p0)
+//!   (p_ref of the equivalent is its p0), and the raw limits apply to the equivalent's creepages.
 
 use super::axes::{Axes, DIMS, REFERENCE_FORCE};
 use crate::error::Result;
@@ -40,6 +45,23 @@ pub struct Coordinates {
     shear_modulus: f64,
     /// Poisson's ratio ν [-].
     poisson: f64,
+    /// Whether a contact is located by its equivalent at the reference load (docs/model.md §9.1).
+    similarity: bool,
+}
+
+/// Where a query lies in a table's coordinates, and how its coordinates move with its inputs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Located {
+    /// The coordinates (ξ̂, η̂, φ̂, F_N, V, w, a/b, p_ref) (with similarity: of the equivalent contact).
+    pub q: [f64; DIMS],
+    /// The creepage coordinates with ∂q/∂(the query's raw creepage) and k·∂q/∂k of the located creepage.
+    pub m: [Mapped; 3],
+    /// ∂q_d/∂ln F_N of every coordinate, the contact's semi-axes growing like F_N^e (e its load exponent).
+    pub dlnf: [f64; DIMS],
+    /// ∂q_V/∂V (s with similarity, else 1).
+    pub dv: f64,
+    /// The raw creepages the axes' raw limits apply to (with similarity: the equivalent's, φ·s).
+    pub raw: [f64; 3],
 }
 
 /// A creepage coordinate q(x, k) and its slopes: ∂q/∂x and k·∂q/∂k (the change with ln k).
@@ -144,7 +166,13 @@ pub fn semi_axes(ratio: f64, p_ref: f64, force: f64) -> [f64; 2] {
 
 /// p_ref = p0·(F_ref/F_N)^(1/3) of semi-axes a, b [m] at normal force `force` [N], p0 = 3·F_N/(2π·a·b) [Pa].
 pub fn reference_pressure(a: f64, b: f64, force: f64) -> f64 {
-    3.0 * force / (2.0 * PI * a * b) * libm::cbrt(REFERENCE_FORCE / force)
+    peak_pressure(a, b, force) * libm::cbrt(REFERENCE_FORCE / force)
+}
+
+/// The peak pressure p0 = 3·F_N/(2π·a·b) [Pa] of semi-axes a, b [m] at normal force `force` [N] (Hertz,
+/// docs/model.md §2).
+pub fn peak_pressure(a: f64, b: f64, force: f64) -> f64 {
+    3.0 * force / (2.0 * PI * a * b)
 }
 
 impl Coordinates {
@@ -157,6 +185,7 @@ impl Coordinates {
             raw_scales: std::array::from_fn(|d| axes.0[d].raw_scale),
             shear_modulus: m.shear_modulus,
             poisson: m.poisson,
+            similarity: axes.similarity(),
         }
     }
 
@@ -189,46 +218,94 @@ impl Coordinates {
         Ok([gc2 * k.c11, gc2 * k.c22, gc2 * c * k.c23])
     }
 
-    /// The geometry coordinates [a/b, p_ref] of contact `e` at normal force `force` [N].
-    #[inline]
-    pub fn geometry(e: &Ellipse, force: f64) -> [f64; 2] {
-        [e.a / e.b, reference_pressure(e.a, e.b, force)]
+    /// Whether contacts are located by their equivalents at the reference load (docs/model.md §9.1).
+    pub fn similarity(&self) -> bool {
+        self.similarity
     }
 
-    /// The table coordinates (ξ̂, η̂, φ̂, F_N, V, w, a/b, p_ref) of `point` with contact `e`, and the creepage
-    /// coordinates with their slopes.
-    pub fn of(&self, point: &OperatingPoint, e: &Ellipse) -> Result<([f64; DIMS], [Mapped; 3])> {
-        self.of_geometry(point, e, Self::geometry(e, point.normal_force))
+    /// The geometry coordinates [a/b, p_ref] of contact `e` at normal force `force` [N]; with similarity
+    /// p_ref is that of the equivalent contact at F_ref, i.e. the contact's own p0.
+    #[inline]
+    pub fn geometry(&self, e: &Ellipse, force: f64) -> [f64; 2] {
+        let pressure = if self.similarity {
+            peak_pressure(e.a, e.b, force)
+        } else {
+            reference_pressure(e.a, e.b, force)
+        };
+        [e.a / e.b, pressure]
+    }
+
+    /// Where `point` with contact `e` lies in the table's coordinates ([`Located`]).
+    pub fn of(&self, point: &OperatingPoint, e: &Ellipse) -> Result<Located> {
+        self.of_geometry(point, e, self.geometry(e, point.normal_force))
     }
 
     /// [`Coordinates::of`] with the contact's geometry coordinates `geometry` already computed
     /// ([`Coordinates::geometry`]).
+    ///
+    /// With similarity the creepages are those of the equivalent contact at F_ref: semi-axes (a, b)/s,
+    /// spin φ·s, s = sqrt(F_N/F_ref) (so ξ̂, η̂ and the normalised φ̂ are the contact's own, a knee-blended
+    /// φ's raw part k_r·φ·s that of the equivalent), the speed V·s. How they move with F_N: k_x, k_y ∝
+    /// c²/F_N ∝ F_N^(2e−1) either way; k_φ of the equivalent ∝ (c/s)³/F_ref ∝ F_N^(3e−3/2) (one half less
+    /// than the contact's own c³/F_N), φ·s ∝ F_N^(1/2), V·s ∝ F_N^(1/2), p0 ∝ F_N^(1−2e); without
+    /// similarity, p_ref ∝ F_N^(2/3−2e) and F_N itself.
     #[inline]
     pub fn of_geometry(
         &self,
         point: &OperatingPoint,
         e: &Ellipse,
         geometry: [f64; 2],
-    ) -> Result<([f64; DIMS], [Mapped; 3])> {
-        let k = self.scales(e, point.normal_force)?;
-        let m = [
-            self.map(0, point.creepage_x, k[0]),
-            self.map(1, point.creepage_y, k[1]),
-            self.map(2, point.spin, k[2]),
+    ) -> Result<Located> {
+        let f = point.normal_force;
+        let (force, s) = if self.similarity {
+            (REFERENCE_FORCE, (f / REFERENCE_FORCE).sqrt())
+        } else {
+            (f, 1.0)
+        };
+        let equivalent = Ellipse {
+            a: e.a / s,
+            b: e.b / s,
+            load_exponent: e.load_exponent,
+        };
+        let k = self.scales(&equivalent, force)?;
+        let raw = [point.creepage_x, point.creepage_y, point.spin * s];
+        let mut m = [
+            self.map(0, raw[0], k[0]),
+            self.map(1, raw[1], k[1]),
+            self.map(2, raw[2], k[2]),
         ];
-        Ok((
-            [
+        let exponents = self.scale_exponents(e.load_exponent);
+        let mut dlnf = [0.0; DIMS];
+        for d in 0..3 {
+            dlnf[d] = m[d].dlnk * exponents[d];
+        }
+        let pressure_exponent = if self.similarity {
+            // the equivalent's k_φ and its spin φ·s
+            dlnf[2] += -0.5 * m[2].dlnk + 0.5 * m[2].dx * raw[2];
+            m[2].dx *= s;
+            dlnf[4] = 0.5 * point.speed * s;
+            1.0 - 2.0 * e.load_exponent
+        } else {
+            dlnf[3] = f;
+            reference_pressure_exponent(e.load_exponent)
+        };
+        dlnf[7] = geometry[1] * pressure_exponent;
+        Ok(Located {
+            q: [
                 m[0].q,
                 m[1].q,
                 m[2].q,
-                point.normal_force,
-                point.speed,
+                force,
+                point.speed * s,
                 point.wetness,
                 geometry[0],
                 geometry[1],
             ],
             m,
-        ))
+            dlnf,
+            dv: s,
+            raw,
+        })
     }
 
     /// The operating point and contact ellipse (prescribed semi-axes) of table coordinates `q`.
@@ -312,7 +389,7 @@ mod tests {
                 creepage_y: 1e-7,
                 ..OperatingPoint::default()
             };
-            let (x, _) = c.of(&point, &e).unwrap();
+            let x = c.of(&point, &e).unwrap().q;
             let s = crate::solver::solve(&q, &point).unwrap();
             let f = point.normal_force;
             assert!((-s.global.force_x / f / x[0] - 1.0).abs() < 0.02, "{a} {b}");
@@ -380,6 +457,148 @@ mod tests {
             }
         );
         assert_eq!(unmap(1.93, 193.0, None), 1.93 / 193.0);
+    }
+
+    /// Coordinates of the default contact's tables with knee-blended creepage axes, and their similarity
+    /// version (equivalent speeds at F_ref).
+    fn blended_coordinates(similarity: bool) -> Coordinates {
+        let mut axes = Axes::default();
+        for (d, k) in [200.0, 170.0, 0.4].into_iter().enumerate() {
+            axes.0[d].raw_scale = Some(k);
+        }
+        if similarity {
+            axes.0[3].points = vec![REFERENCE_FORCE];
+            axes.0[4].similarity = true;
+        }
+        axes.validate().unwrap();
+        Coordinates::new(&Params::default(), &axes)
+    }
+
+    /// A contact and its copy λ times as large at λ² the load, rolling at V/λ with spin φ/λ (the similarity
+    /// of docs/model.md §9.1) lie at the same coordinates of a table by similarity: the equivalent at F_ref
+    /// (F_N coordinate F_ref, speed V·sqrt(F_N/F_ref), p_ref = p0), creepages within the same raw limits.
+    #[test]
+    fn similarity_locates_a_contact_by_its_equivalent_at_the_reference_load() {
+        let c = blended_coordinates(true);
+        assert!(c.similarity() && !blended_coordinates(false).similarity());
+        let point = OperatingPoint {
+            creepage_x: 0.004,
+            creepage_y: -0.002,
+            spin: 0.3,
+            normal_force: 60e3,
+            speed: 25.0,
+            wetness: 0.1,
+        };
+        let e = Ellipse {
+            a: 4.0e-3,
+            b: 7.0e-3,
+            load_exponent: Ellipse::HERTZ,
+        };
+        let at = c.of(&point, &e).unwrap();
+        let s = (60e3 / REFERENCE_FORCE).sqrt();
+        assert_eq!(at.q[3], REFERENCE_FORCE);
+        assert!((at.q[4] - 25.0 * s).abs() < 1e-12);
+        assert!((at.q[7] / peak_pressure(4e-3, 7e-3, 60e3) - 1.0).abs() < 1e-14);
+        assert!((at.raw[2] - 0.3 * s).abs() < 1e-15);
+        for l in [0.25, 0.7, 3.0] {
+            let other = OperatingPoint {
+                normal_force: point.normal_force * l * l,
+                speed: point.speed / l,
+                spin: point.spin / l,
+                ..point
+            };
+            let big = Ellipse {
+                a: e.a * l,
+                b: e.b * l,
+                ..e
+            };
+            let there = c.of(&other, &big).unwrap();
+            for d in 0..DIMS {
+                assert!(
+                    (there.q[d] - at.q[d]).abs() <= 1e-12 * at.q[d].abs().max(1e-3),
+                    "λ {l}, coordinate {d}: {} vs {}",
+                    there.q[d],
+                    at.q[d]
+                );
+            }
+            for d in 0..3 {
+                assert!((there.raw[d] - at.raw[d]).abs() <= 1e-14);
+            }
+        }
+    }
+
+    /// The slopes of [`Located`] (∂q/∂ creepage, ∂q/∂ln F_N with the semi-axes following the load like
+    /// F_N^e, ∂q_V/∂V) are those of finite differences, with and without similarity, knee-blended.
+    #[test]
+    fn located_slopes_match_finite_differences() {
+        let point = OperatingPoint {
+            creepage_x: 0.003,
+            creepage_y: 0.001,
+            spin: -0.2,
+            normal_force: 80e3,
+            speed: 30.0,
+            wetness: 0.0,
+        };
+        for similarity in [false, true] {
+            let c = blended_coordinates(similarity);
+            for exponent in [Ellipse::HERTZ, 0.0] {
+                let e = Ellipse {
+                    a: 5e-3,
+                    b: 8e-3,
+                    load_exponent: exponent,
+                };
+                let at = c.of(&point, &e).unwrap();
+                let h = 1e-6;
+                let loaded = |f: f64| {
+                    let s = (f / point.normal_force).powf(exponent);
+                    let el = Ellipse {
+                        a: e.a * s,
+                        b: e.b * s,
+                        ..e
+                    };
+                    let p = OperatingPoint {
+                        normal_force: f,
+                        ..point
+                    };
+                    c.of(&p, &el).unwrap().q
+                };
+                let (hi, lo) = (
+                    loaded(point.normal_force * (1.0 + h)),
+                    loaded(point.normal_force * (1.0 - h)),
+                );
+                for d in 0..DIMS {
+                    let fd = (hi[d] - lo[d]) / (2.0 * h);
+                    assert!(
+                        (fd - at.dlnf[d]).abs() <= 1e-5 * fd.abs().max(at.q[d].abs()).max(1e-3),
+                        "similarity {similarity}, e {exponent}, ∂q_{d}/∂ln F_N: {fd} vs {}",
+                        at.dlnf[d]
+                    );
+                }
+                let moved = |d: usize, x: f64| {
+                    let mut p = point;
+                    match d {
+                        0 => p.creepage_x += x,
+                        1 => p.creepage_y += x,
+                        2 => p.spin += x,
+                        _ => p.speed += x,
+                    }
+                    c.of(&p, &e).unwrap().q
+                };
+                for (d, step, slope, coordinate) in [
+                    (0, 1e-8, at.m[0].dx, 0),
+                    (1, 1e-8, at.m[1].dx, 1),
+                    (2, 1e-6, at.m[2].dx, 2),
+                    (4, 1e-5, at.dv, 4),
+                ] {
+                    let fd =
+                        (moved(d, step)[coordinate] - moved(d, -step)[coordinate]) / (2.0 * step);
+                    assert!(
+                        (fd - slope).abs() <= 1e-6 * fd.abs().max(1.0),
+                        "similarity {similarity}, input {d}: {fd} vs {slope}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

@@ -100,6 +100,10 @@ pub struct AxisRecord {
     /// Knee-blended creepage axes: the raw scale k_r (see `coords`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub raw_scale: Option<f64>,
+    /// The speed axis of a table built by similarity: equivalent speeds at the reference load
+    /// (docs/model.md §9.1).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub similarity: bool,
 }
 
 /// One array file in the sidecar.
@@ -221,6 +225,7 @@ pub fn axis_records(axes: &Axes) -> Vec<AxisRecord> {
             points: a.points.clone(),
             raw_limit: a.raw_limit,
             raw_scale: a.raw_scale,
+            similarity: a.similarity,
         })
         .collect()
 }
@@ -264,6 +269,7 @@ fn axes_of(sidecar: &Sidecar, path: &Path) -> Result<Axes> {
             raw_limit: r.raw_limit,
             raw_scale: r.raw_scale,
             logarithmic,
+            similarity: r.similarity,
         });
     }
     if sidecar.format_version == 1 {
@@ -283,6 +289,7 @@ fn axes_of(sidecar: &Sidecar, path: &Path) -> Result<Axes> {
                 raw_limit: None,
                 raw_scale: None,
                 logarithmic: false,
+                similarity: false,
             });
         }
     }

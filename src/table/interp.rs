@@ -628,6 +628,7 @@ mod tests {
                 raw_limit: None,
                 raw_scale: None,
                 logarithmic: false,
+                similarity: false,
             },
             Interpolation::Cubic,
         )
@@ -782,6 +783,7 @@ mod tests {
                     raw_limit: None,
                     raw_scale: None,
                     logarithmic: false,
+                    similarity: false,
                 },
                 Interpolation::Linear,
             )

@@ -29,7 +29,7 @@ pub use file::{OUTPUT_INFO, OUTPUTS, ShardRecord, Sidecar, TableFiles, fingerpri
 use crate::error::{Error, Result};
 use crate::params::{OperatingPoint, Params};
 use crate::solver::{GlobalResults, Solution, SolverReport};
-use axes::{ETA, FORCE, LINEAR_DIMS, PHI, PRESSURE, RATIO, XI};
+use axes::{ETA, FORCE, LINEAR_DIMS, PHI, PRESSURE, RATIO, SPEED, WET, XI};
 use interp::{AxisInterp, CORNERS, Corners, Fraction, Offsets};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -421,17 +421,17 @@ impl Table {
     /// their raw limits. Invalid input (see [`Table::evaluate`]) is outside.
     pub fn in_range(&self, p: &OperatingPoint, e: &Ellipse) -> bool {
         p.validate().is_ok()
-            && self.coordinates.of(p, e).is_ok_and(|(q, _)| {
-                self.within_raw_limits(p)
-                    && self.creepages_inside(&q)
-                    && (FORCE..DIMS).all(|d| self.interp[d].clamp(q[d]).1)
+            && self.coordinates.of(p, e).is_ok_and(|at| {
+                self.within_raw_limits(&at.raw)
+                    && self.creepages_inside(&at.q)
+                    && (FORCE..DIMS).all(|d| self.interp[d].clamp(at.q[d]).1)
             })
     }
 
     /// Whether the contact `e` at normal force `force` [N] lies inside the table's geometry axes (a/b and
     /// p_ref).
     pub fn covers(&self, e: &Ellipse, force: f64) -> bool {
-        self.covers_geometry(Coordinates::geometry(e, force))
+        self.covers_geometry(self.coordinates.geometry(e, force))
     }
 
     /// Whether the geometry coordinates [a/b, p_ref] lie inside the table's geometry axes.
@@ -442,10 +442,10 @@ impl Table {
             .all(|(x, a)| a.clamp(*x).1)
     }
 
-    /// Whether the raw creepages of `p` lie within the raw limits of normalised creepage axes.
-    fn within_raw_limits(&self, p: &OperatingPoint) -> bool {
-        [p.creepage_x, p.creepage_y, p.spin]
-            .iter()
+    /// Whether the raw creepages `raw` (ξ, η, φ of the located point, [`coords::Located::raw`]) lie within
+    /// the raw limits of normalised creepage axes.
+    fn within_raw_limits(&self, raw: &[f64; 3]) -> bool {
+        raw.iter()
             .zip(&self.axes.0)
             .all(|(x, a)| a.raw_limit.is_none_or(|l| x.abs() <= l))
     }
@@ -480,7 +480,7 @@ impl Table {
     /// interpolation (no allocation). Invalid input (NaN, non-positive load, speed or semi-axes, …) is an
     /// error; a valid point outside the ranges is clamped (`in_range` false).
     pub fn evaluate(&self, point: &OperatingPoint, e: &Ellipse) -> Result<TableOutput> {
-        let geometry = Coordinates::geometry(e, point.normal_force);
+        let geometry = self.coordinates.geometry(e, point.normal_force);
         self.dispatch::<false>(point, e, geometry).map(|(o, _)| o)
     }
 
@@ -509,7 +509,7 @@ impl Table {
         point: &OperatingPoint,
         e: &Ellipse,
     ) -> Option<Result<(TableOutput, Jacobian)>> {
-        let geometry = Coordinates::geometry(e, point.normal_force);
+        let geometry = self.coordinates.geometry(e, point.normal_force);
         self.covers_geometry(geometry)
             .then(|| self.dispatch::<JAC>(point, e, geometry))
     }
@@ -520,7 +520,7 @@ impl Table {
         point: &OperatingPoint,
         e: &Ellipse,
     ) -> Result<(TableOutput, Jacobian)> {
-        let geometry = Coordinates::geometry(e, point.normal_force);
+        let geometry = self.coordinates.geometry(e, point.normal_force);
         self.dispatch::<true>(point, e, geometry)
     }
 
@@ -588,7 +588,8 @@ impl Table {
                 "finite and > 0 m",
             ));
         }
-        let (signed, m) = self.coordinates.of_geometry(point, e, geometry)?;
+        let at = self.coordinates.of_geometry(point, e, geometry)?;
+        let (signed, m) = (at.q, at.m);
         let (mut q, mx, my) = self.stored_quadrant(signed);
         let mut inside = [true; DIMS];
         for d in 0..DIMS {
@@ -617,7 +618,7 @@ impl Table {
             frictional_power: self
                 .has_power
                 .then(|| (f * point.speed.abs() * core.v[5]).max(0.0)),
-            in_range: inside.iter().all(|x| *x) && self.within_raw_limits(point),
+            in_range: inside.iter().all(|x| *x) && self.within_raw_limits(&at.raw),
             converged: core.converged,
         };
         let mut jac = [[0.0; INPUTS]; JACOBIAN_ROWS];
@@ -631,21 +632,18 @@ impl Table {
                     }
                 }
             }
-            // chained to the inputs (ξ, η, φ, F_N, V, w): ∂q/∂(raw creepage), and F_N's part in the
-            // creepage scales k (through k·∂q/∂k) and in p_ref for semi-axes ∝ F_N^e
-            let s = self.coordinates.scale_exponents(e.load_exponent);
-            let pe = coords::reference_pressure_exponent(e.load_exponent);
+            // chained to the inputs (ξ, η, φ, F_N, V, w): ∂q/∂(raw creepage), F_N through every
+            // coordinate that moves with it (the creepage scales k through k·∂q/∂k, p_ref for semi-axes
+            // ∝ F_N^e, with similarity the equivalent's spin and speed; `coords::Located`), V through its
+            // coordinate
             let mut dg = [[0.0; INPUTS]; OUTPUTS];
             for o in 0..OUTPUTS {
                 for d in 0..3 {
                     dg[o][d] = dq[o][d] * m[d].dx;
                 }
-                dg[o][FORCE] = dq[o][FORCE]
-                    + ((0..3).map(|d| dq[o][d] * m[d].dlnk * s[d]).sum::<f64>()
-                        + dq[o][PRESSURE] * signed[PRESSURE] * pe)
-                        / f;
-                dg[o][FORCE + 1] = dq[o][FORCE + 1];
-                dg[o][FORCE + 2] = dq[o][FORCE + 2];
+                dg[o][FORCE] = (0..DIMS).map(|d| dq[o][d] * at.dlnf[d]).sum::<f64>() / f;
+                dg[o][FORCE + 1] = dq[o][SPEED] * at.dv;
+                dg[o][FORCE + 2] = dq[o][WET];
             }
             let f_t = out.traction_coefficient;
             let t_free = core.v[3] > self.bulk_temperature;
@@ -1122,7 +1120,6 @@ pub fn other_parameters(table: &Table, params: &Params) -> Error {
 mod tests {
     use super::*;
     use crate::params::FrictionLaw;
-    use axes::SPEED;
 
     /// A function with the model's symmetries, linear in each creepage coordinate and affine in the linear
     /// ones: the interpolant reproduces it exactly. Monomials x^a·y^b·φ^c: the ξ mirror multiplies them by
@@ -1169,6 +1166,35 @@ mod tests {
             0.5 + 0.1 * u(),
             0.7e9 + 0.15e9 * u(),
         ]
+    }
+
+    /// The contact similar to (`p`, `e`) at `ratio` times its load (docs/model.md §9.1): semi-axes ·s, speed
+    /// and spin /s, s = sqrt(ratio); its outputs per F_N, F_N·c and F_N·V are those of (`p`, `e`).
+    fn carried((p, e): (OperatingPoint, Ellipse), ratio: f64) -> (OperatingPoint, Ellipse) {
+        let s = ratio.sqrt();
+        (
+            OperatingPoint {
+                normal_force: p.normal_force * ratio,
+                speed: p.speed / s,
+                spin: p.spin / s,
+                ..p
+            },
+            Ellipse {
+                a: e.a * s,
+                b: e.b * s,
+                ..e
+            },
+        )
+    }
+
+    /// `axes` (with one normal force point, F_ref among them) as a table by similarity: the normal force
+    /// axis F_ref alone, the speed points equivalent speeds.
+    fn similar(mut axes: Axes) -> Axes {
+        axes.0[FORCE].points = vec![axes::REFERENCE_FORCE];
+        axes.0[FORCE].logarithmic = false;
+        axes.0[SPEED].similarity = true;
+        axes.validate().unwrap();
+        axes
     }
 
     /// The operating point and contact of table coordinates `q`, the contact's semi-axes growing with the
@@ -1298,7 +1324,7 @@ mod tests {
                 let h = [1e-8, 1e-8, 1e-6, 1.0, 1e-4, 1e-6][d];
                 let exact = |h: f64| {
                     let (p, e) = moved(&pt, &e, d, h);
-                    let (q, _) = t.coordinates().of(&p, &e).unwrap();
+                    let q = t.coordinates().of(&p, &e).unwrap().q;
                     physical(&p, &e, &f(&q))
                 };
                 let (pp, pm) = (exact(h), exact(-h));
@@ -1377,12 +1403,24 @@ mod tests {
         let params = coarse_params();
         let mut axes = tiny_axes();
         axes.0[XI].points = vec![0.0, 0.2, 0.6, 2.0, 6.0, 10.0];
-        let t = synthetic(&axes, &params, &symmetric_saturating);
+        for axes in [axes.clone(), similar(axes.clone()), similar(blended(axes))] {
+            jacobian_is_the_derivative_of(&synthetic(&axes, &params, &symmetric_saturating));
+        }
+    }
+
+    /// [`jacobian_is_the_derivative_of_the_interpolant`] for table `t`; in a table by similarity at
+    /// contacts carried from F_ref to loads 0.3–2 × F_ref (their equivalents at random coordinates).
+    fn jacobian_is_the_derivative_of(t: &Table) {
         let mut rng = verify::SplitMix64::new(11);
         for n in 0..300 {
-            let c = random_coordinates(&mut rng);
+            let mut c = random_coordinates(&mut rng);
             let exponent = if n % 2 == 0 { 0.0 } else { Ellipse::HERTZ };
-            let (pt, e) = at(&t, &c, exponent);
+            let (pt, e) = if t.axes().similarity() {
+                c[FORCE] = axes::REFERENCE_FORCE;
+                carried(at(t, &c, exponent), 0.3 + 1.7 * rng.uniform())
+            } else {
+                at(t, &c, exponent)
+            };
             let (_, j) = t.evaluate_with_jacobian(&pt, &e).unwrap();
             for d in 0..INPUTS {
                 let h = [1e-9, 1e-9, 1e-7, 0.1, 1e-5, 1e-7][d];
@@ -1400,8 +1438,9 @@ mod tests {
                     (p.fluid_load_fraction - m.fluid_load_fraction) / (2.0 * h),
                 ];
                 for o in 0..JACOBIAN_ROWS {
-                    let scale = [c[3], c[3], c[3] * 0.01, 1.0, 50.0, 0.3][o]
-                        / [0.05, 0.02, 1.0, 1e5, 20.0, 1.0][d];
+                    let f = pt.normal_force;
+                    let scale =
+                        [f, f, f * 0.01, 1.0, 50.0, 0.3][o] / [0.05, 0.02, 1.0, 1e5, 20.0, 1.0][d];
                     assert!(
                         (j[o][d] - fd[o]).abs() < 1e-5 * scale.max(fd[o].abs()),
                         "∂{o}/∂{d} at {c:?}: {} vs {}",
@@ -1720,12 +1759,19 @@ mod tests {
     /// solve (beyond its coverage window) hold the nearest solved node's values.
     #[test]
     fn built_nodes_are_the_exact_solutions_of_their_contacts() {
-        for axes in [tiny_axes(), blended(tiny_axes())] {
+        for axes in [
+            tiny_axes(),
+            blended(tiny_axes()),
+            similar(tiny_axes()),
+            similar(blended(tiny_axes())),
+        ] {
             built_nodes_are_exact(&axes);
         }
     }
 
-    /// A table over `axes` holds the exact solutions at 20 random nodes, and evaluates to them there.
+    /// A table over `axes` holds the exact solutions at 20 random nodes, and evaluates to them there; a
+    /// table by similarity at contacts carried from the nodes' (at F_ref) to 0.1–2.5 × F_ref, whose exact
+    /// solutions are compared.
     fn built_nodes_are_exact(axes: &Axes) {
         let params = coarse_params();
         let files = build::build(&params, axes, None, &|| ()).unwrap();
@@ -1734,7 +1780,12 @@ mod tests {
         for _ in 0..20 {
             let k = rng.below(axes.len());
             let q = axes.coordinates(k);
-            let (p, e) = t.coordinates().point(&q).unwrap();
+            let node = t.coordinates().point(&q).unwrap();
+            let (p, e) = if axes.similarity() {
+                carried(node, 0.1 * 25f64.powf(rng.uniform()))
+            } else {
+                node
+            };
             let mut exact = params.clone();
             exact.geometry.semi_axes = Some([e.a, e.b]);
             let s = crate::solve(&exact, &p).unwrap();

@@ -64,8 +64,14 @@ pub struct Sample {
     pub ellipse: Ellipse,
 }
 
+/// The normal forces [N] a table built by similarity is verified at (issue 13's range of wheel–rail loads).
+pub const SIMILARITY_LOADS: [f64; 2] = [10e3, 250e3];
+
 /// `n` sample points of a table: even samples uniform over the ranges, odd ones at random cell midpoints
-/// (random sign on mirrored creepages), the creepages within the raw limits of the sampled contact.
+/// (random sign on mirrored creepages), the creepages within the raw limits of the sampled contact. In a
+/// table built by similarity (docs/model.md §9.1) each sample is the contact at F_ref so drawn, carried to
+/// a load F_N log-uniform in [`SIMILARITY_LOADS`]: semi-axes ·s, speed and spin /s, s = sqrt(F_N/F_ref)
+/// (the exact solver then sees a contact of another size, load and speed whose equivalent is the sample).
 pub fn sample_points(table: &Table, n: usize, seed: u64) -> Vec<Sample> {
     let mut rng = SplitMix64::new(seed);
     let axes = &table.axes().0;
@@ -104,7 +110,17 @@ pub fn sample_points(table: &Table, n: usize, seed: u64) -> Vec<Sample> {
                     }
                 };
             }
-            let (point, ellipse) = coords.point(&q).expect("a valid table point");
+            let (mut point, mut ellipse) = coords.point(&q).expect("a valid table point");
+            if coords.similarity() {
+                let [lo, hi] = SIMILARITY_LOADS;
+                let force = lo * (hi / lo).powf(rng.uniform());
+                let s = (force / point.normal_force).sqrt();
+                point.normal_force = force;
+                point.speed /= s;
+                point.spin /= s;
+                ellipse.a *= s;
+                ellipse.b *= s;
+            }
             Sample { point, ellipse }
         })
         .collect()
@@ -206,7 +222,7 @@ fn cell_errors(table: &Table, compared: &[&Compared]) -> Vec<CellErrors> {
         .iter()
         .map(|c| {
             let (p, e) = (&c.sample.point, &c.sample.ellipse);
-            let q = table.coordinates().of(p, e).ok()?.0;
+            let q = table.coordinates().of(p, e).ok()?.q;
             Some(table.stored_quadrant(q).0)
         })
         .collect();
@@ -466,7 +482,7 @@ mod tests {
                             .coordinates()
                             .of(&k.sample.point, &k.sample.ellipse)
                             .unwrap()
-                            .0;
+                            .q;
                         let x = match d {
                             0 => q[0].abs(),
                             1 => q[1].abs(),

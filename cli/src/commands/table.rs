@@ -534,7 +534,7 @@ fn info(dir: &Path) -> Result<()> {
     );
     for (dim, (a, d)) in f.axes.0.iter().zip(DIMENSIONS.iter()).enumerate() {
         println!(
-            "  {:<4} {:<13} {:>3} points, {:>10} .. {:<10} [{}] {:?}{}{}{}",
+            "  {:<4} {:<13} {:>3} points, {:>10} .. {:<10} [{}] {:?}{}{}{}{}",
             d.symbol,
             d.name,
             a.points.len(),
@@ -546,7 +546,13 @@ fn info(dir: &Path) -> Result<()> {
             a.raw_limit
                 .map_or(String::new(), |l| format!(", raw limit {l}")),
             a.raw_scale
-                .map_or(String::new(), |k| format!(", knee-blended (raw scale {k})"))
+                .map_or(String::new(), |k| format!(", knee-blended (raw scale {k})")),
+            if a.similarity {
+                ", similarity: equivalent speeds V·sqrt(F_N/100 kN) of every load, p_ref = p0 \
+                 (docs/model.md §9.1)"
+            } else {
+                ""
+            }
         );
     }
     let bytes: u64 = s
