@@ -624,7 +624,7 @@ fn a_table_by_similarity_serves_every_load() {
         .iter()
         .fold((f64::MAX, 0.0f64), |(a, b), f| (a.min(*f), b.max(*f)));
     assert!(
-        lo >= 10e3 && lo < 40e3 && hi > 160e3 && hi <= 250e3,
+        (10e3..40e3).contains(&lo) && (160e3..=250e3).contains(&hi),
         "{lo} {hi}"
     );
     // the row of the load farthest from 100 kN
