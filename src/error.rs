@@ -75,7 +75,7 @@ pub enum Error {
         path: String,
         /// a/b of the contact [-].
         ratio: f64,
-        /// p_ref of the contact [Pa].
+        /// p_ref of the contact [Pa] (in a table by similarity that of its equivalent at F_ref: its p0).
         reference_pressure: f64,
         /// The ranges the table covers.
         covered: String,

@@ -459,7 +459,7 @@ impl Table {
         Error::TableGeometry {
             path: self.location(),
             ratio: e.a / e.b,
-            reference_pressure: coords::reference_pressure(e.a, e.b, force),
+            reference_pressure: self.coordinates.geometry(e, force)[1],
             covered: format!("{}, {} Pa", range(RATIO), range(PRESSURE)),
         }
     }
