@@ -3,7 +3,7 @@
 //! solves) and calls `fmi2DoStep`, dry and wet, with warm starts (the default) and without; and in table
 //! mode (issue 5 target ≤ 2 µs), with a small table built for a 6 × 6 grid first (the lookup cost does not
 //! depend on the grid), also with a new contact ellipse every step (random geometry), dry and wet with all
-//! three creepages (the whole 16-corner stencil). Also a step followed by the six columns of the Jacobian (one
+//! three creepages (the whole 16-corner stencil), and both by a table built by similarity (12 corners). Also a step followed by the six columns of the Jacobian (one
 //! `fmi2GetDirectionalDerivative` call per input, as a master asks), by table and exact. Run with
 //! `cargo bench -p wheelrail-fmu`.
 
@@ -18,7 +18,7 @@ use std::ffi::CString;
 use std::hint::black_box;
 
 mod common;
-use common::{Setup, instance, small_table};
+use common::{Setup, instance, small_table, small_table_by_similarity};
 
 /// Benchmarks `fmi2DoStep` on `fmu`, alternating the longitudinal creepage between two values.
 ///
@@ -142,6 +142,41 @@ fn do_step_table(c: &mut Criterion) {
         bench_random_geometry(
             c,
             "fmi2DoStep/table, wet 0.07, xi 0.3 %, eta 0.2 %, spin 0.1 m-1, random geometry",
+            fmu,
+        );
+        fmi2FreeInstance(fmu);
+    }
+    let _ = std::fs::remove_dir_all(dir);
+    // the same by a table built by similarity (one normal force node: 12 corners, dry 6)
+    let dir = small_table_by_similarity();
+    let dir_c = CString::new(dir.to_str().unwrap()).unwrap();
+    unsafe {
+        let fmu = instance(&Setup {
+            mode: 1,
+            grid: 6,
+            table: Some(&dir_c),
+            wetness: 0.0,
+            warm: true,
+        });
+        assert_eq!(
+            fmi2SetReal(fmu, &(CREEPAGE_LONGITUDINAL as u32), 1, &0.003),
+            0
+        );
+        bench_random_geometry(
+            c,
+            "fmi2DoStep/table by similarity, dry, xi 0.3 %, random geometry",
+            fmu,
+        );
+        let vr = [
+            CREEPAGE_LATERAL as u32,
+            SPIN_CREEPAGE as u32,
+            WETNESS as u32,
+        ];
+        let x = [0.002, 0.1, 0.07];
+        assert_eq!(fmi2SetReal(fmu, vr.as_ptr(), 3, x.as_ptr()), 0);
+        bench_random_geometry(
+            c,
+            "fmi2DoStep/table by similarity, wet 0.07, xi 0.3 %, eta 0.2 %, spin 0.1 m-1, random geometry",
             fmu,
         );
         fmi2FreeInstance(fmu);

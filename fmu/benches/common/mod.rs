@@ -1,17 +1,36 @@
 //! Shared set-up of the FMU benchmarks.
 
-/// A table for the FMU's default parameters on a 6 × 6 grid (288 points).
+/// A table for the FMU's default parameters on a 6 × 6 grid (`tests/fixtures/small-axes.toml`, 1152
+/// points).
 #[allow(dead_code)] // not every bench uses it
 pub fn small_table() -> std::path::PathBuf {
-    let axes = wheelrail::table::Axes::from_toml_file(
+    small_table_of(false)
+}
+
+/// [`small_table`] built by similarity (docs/model.md §9.1): the normal force axis 100 kN alone, the speed
+/// points (20, 40 m/s) equivalent speeds, so the linear stencil has 12 corners instead of 16.
+#[allow(dead_code)] // not every bench uses it
+pub fn small_table_by_similarity() -> std::path::PathBuf {
+    small_table_of(true)
+}
+
+fn small_table_of(similarity: bool) -> std::path::PathBuf {
+    let mut axes = wheelrail::table::Axes::from_toml_file(
         &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/small-axes.toml"),
     )
     .unwrap();
+    if similarity {
+        axes.0[3].points = vec![wheelrail::table::axes::REFERENCE_FORCE];
+        axes.0[4].similarity = true;
+    }
     let mut params = wheelrail::Params::default();
     params.grid.nx = 6;
     params.grid.ny = 6;
-    let dir =
-        std::env::temp_dir().join(format!("wheelrail-fmu-bench-table-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!(
+        "wheelrail-fmu-bench-table-{}{}",
+        if similarity { "similarity-" } else { "" },
+        std::process::id()
+    ));
     let mut files = wheelrail::table::build(&params, &axes, None, &|| ()).unwrap();
     files.write(&dir).unwrap();
     dir
