@@ -415,27 +415,42 @@ fn corrupt_or_mismatched_tables_are_refused_with_clear_errors() {
 
 /// The spot check of a table against the exact solver: a table built here passes `table verify`; the same
 /// arrays relabelled as computed for other parameters (a stale table with a consistent sidecar) fail it.
+/// `wheelrail table verify DIR --samples N --json --csv CSV`: the JSON report, and the CSV's header and rows.
+fn verify_with_csv(
+    dir: &Path,
+    csv: &Path,
+    samples: usize,
+) -> (serde_json::Value, Vec<String>, Vec<Vec<f64>>) {
+    let n = samples.to_string();
+    let o = wheelrail(
+        &[
+            "table",
+            "verify",
+            s(dir),
+            "--samples",
+            &n,
+            "--json",
+            "--csv",
+            s(csv),
+        ],
+        None,
+    );
+    let r: serde_json::Value = serde_json::from_str(ok(&o).trim()).unwrap();
+    let text = std::fs::read_to_string(csv).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    (r, header, rows)
+}
+
 #[test]
 fn verify_passes_a_good_table_and_fails_a_stale_one() {
     let (params, axes) = files("ver", SMALL_GRID, VERIFY_AXES);
     let dir = tmp("ver-table");
     build(&params, &axes, &dir, &[], "2");
-    let csv = tmp("ver-samples.csv");
-    let o = wheelrail(
-        &[
-            "table",
-            "verify",
-            s(&dir),
-            "--samples",
-            "60",
-            "--json",
-            "--csv",
-            s(&csv),
-        ],
-        None,
-    );
-    let out = ok(&o);
-    let r: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    let (r, header, rows) = verify_with_csv(&dir, &tmp("ver-samples.csv"), 60);
     assert_eq!(r["compared"], 60, "{r}");
     let p99 = r["force"]["p99"].as_f64().unwrap();
     let max = r["force"]["max"].as_f64().unwrap();
@@ -465,12 +480,6 @@ fn verify_passes_a_good_table_and_fails_a_stale_one() {
 
     // --csv: one row per compared sample; its columns give the report's force errors, and its exact
     // columns are what `wheelrail point` gives at the row's operating point and contact
-    let text = std::fs::read_to_string(&csv).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let rows: Vec<Vec<f64>> = lines
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
     assert_eq!(rows.len(), 60);
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
     let force_error = |row: &[f64]| {
@@ -591,33 +600,13 @@ fn a_table_by_similarity_serves_every_load() {
         info.contains("similarity: equivalent speeds") && info.contains("F_N 1 × V 2"),
         "{info}"
     );
-    let csv = tmp("sim-samples.csv");
-    let o = wheelrail(
-        &[
-            "table",
-            "verify",
-            s(&dir),
-            "--samples",
-            "60",
-            "--json",
-            "--csv",
-            s(&csv),
-        ],
-        None,
-    );
-    let r: serde_json::Value = serde_json::from_str(ok(&o).trim()).unwrap();
+    let (r, header, rows) = verify_with_csv(&dir, &tmp("sim-samples.csv"), 60);
     assert_eq!(r["compared"], 60, "{r}");
     let (p99, max) = (
         r["force"]["p99"].as_f64().unwrap(),
         r["force"]["max"].as_f64().unwrap(),
     );
     assert!(p99 <= 0.01 && max <= 0.03, "{r}");
-    let text = std::fs::read_to_string(&csv).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let rows: Vec<Vec<f64>> = lines
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
     let loads: Vec<f64> = rows.iter().map(|row| row[col("normal_force")]).collect();
     let (lo, hi) = loads

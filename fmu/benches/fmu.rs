@@ -130,20 +130,7 @@ fn do_step_table(c: &mut Criterion) {
             fmu,
             [0.003, 0.0031],
         );
-        bench_random_geometry(c, "fmi2DoStep/table, dry, xi 0.3 %, random geometry", fmu);
-        // every linear corner weighted and every creepage off its nodes: the stencil in full
-        let vr = [
-            CREEPAGE_LATERAL as u32,
-            SPIN_CREEPAGE as u32,
-            WETNESS as u32,
-        ];
-        let x = [0.002, 0.1, 0.07];
-        assert_eq!(fmi2SetReal(fmu, vr.as_ptr(), 3, x.as_ptr()), 0);
-        bench_random_geometry(
-            c,
-            "fmi2DoStep/table, wet 0.07, xi 0.3 %, eta 0.2 %, spin 0.1 m-1, random geometry",
-            fmu,
-        );
+        bench_geometry_cases(c, "table", fmu);
         fmi2FreeInstance(fmu);
     }
     let _ = std::fs::remove_dir_all(dir);
@@ -162,9 +149,23 @@ fn do_step_table(c: &mut Criterion) {
             fmi2SetReal(fmu, &(CREEPAGE_LONGITUDINAL as u32), 1, &0.003),
             0
         );
+        bench_geometry_cases(c, "table by similarity", fmu);
+        fmi2FreeInstance(fmu);
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// The random-geometry table steps of a dry instance at ξ = 0.3 % ([`bench_random_geometry`], as
+/// `fmi2DoStep/{kind}, …`), then wet with all three creepages, every linear corner weighted and every
+/// creepage off its nodes (the stencil in full). Leaves the instance wet.
+///
+/// # Safety
+/// As [`bench_random_geometry`].
+unsafe fn bench_geometry_cases(c: &mut Criterion, kind: &str, fmu: *mut std::ffi::c_void) {
+    unsafe {
         bench_random_geometry(
             c,
-            "fmi2DoStep/table by similarity, dry, xi 0.3 %, random geometry",
+            &format!("fmi2DoStep/{kind}, dry, xi 0.3 %, random geometry"),
             fmu,
         );
         let vr = [
@@ -176,12 +177,12 @@ fn do_step_table(c: &mut Criterion) {
         assert_eq!(fmi2SetReal(fmu, vr.as_ptr(), 3, x.as_ptr()), 0);
         bench_random_geometry(
             c,
-            "fmi2DoStep/table by similarity, wet 0.07, xi 0.3 %, eta 0.2 %, spin 0.1 m-1, random geometry",
+            &format!(
+                "fmi2DoStep/{kind}, wet 0.07, xi 0.3 %, eta 0.2 %, spin 0.1 m-1, random geometry"
+            ),
             fmu,
         );
-        fmi2FreeInstance(fmu);
     }
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// Benchmarks (as `name`) a table step at a new contact every step, as an MBS run feeds it: each iteration
