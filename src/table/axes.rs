@@ -877,6 +877,18 @@ mod tests {
         }
     }
 
+    /// The axes files under `tools/` are valid: the committed default table's, and the running-surface
+    /// contacts' by similarity (docs/model.md §12.3), with the point counts their comments give.
+    #[test]
+    fn the_axes_files_of_the_tools_folder_are_valid() {
+        let tools = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tools");
+        let default = Axes::from_toml_file(&tools.join("default-contact-axes.toml")).unwrap();
+        assert_eq!((default.len(), default.similarity()), (693_000, false));
+        let surface = Axes::from_toml_file(&tools.join("running-surface-axes.toml")).unwrap();
+        assert_eq!((surface.len(), surface.similarity()), (2_675_400, true));
+        assert_eq!(surface.0[FORCE].points, [REFERENCE_FORCE]);
+    }
+
     #[test]
     fn creepage_axes_need_a_raw_limit_and_linear_axes_may_have_one_point() {
         let mut spec = AxesSpec {
