@@ -102,8 +102,12 @@ fn do_step(c: &mut Criterion) {
     }
 }
 
-fn do_step_table(c: &mut Criterion) {
-    let dir = small_table();
+/// A dry instance in table-only mode (grid 6, the small tables' parameters) with the table at `dir`, at
+/// ξ = 0.3 %, whose first step the table evaluated.
+///
+/// # Safety
+/// The instance is freed by the caller (`fmi2FreeInstance`).
+unsafe fn table_instance(dir: &std::path::Path) -> *mut std::ffi::c_void {
     let dir_c = CString::new(dir.to_str().unwrap()).unwrap();
     unsafe {
         let fmu = instance(&Setup {
@@ -123,6 +127,14 @@ fn do_step_table(c: &mut Criterion) {
             0
         );
         assert_eq!(mode, 1);
+        fmu
+    }
+}
+
+fn do_step_table(c: &mut Criterion) {
+    let dir = small_table();
+    unsafe {
+        let fmu = table_instance(&dir);
         bench_steps(c, "fmi2DoStep/table, dry, xi 0.3 %", fmu, [0.003, 0.0031]);
         bench_jacobian(
             c,
@@ -136,19 +148,8 @@ fn do_step_table(c: &mut Criterion) {
     let _ = std::fs::remove_dir_all(dir);
     // the same by a table built by similarity (one normal force node: 12 corners, dry 6)
     let dir = small_table_by_similarity();
-    let dir_c = CString::new(dir.to_str().unwrap()).unwrap();
     unsafe {
-        let fmu = instance(&Setup {
-            mode: 1,
-            grid: 6,
-            table: Some(&dir_c),
-            wetness: 0.0,
-            warm: true,
-        });
-        assert_eq!(
-            fmi2SetReal(fmu, &(CREEPAGE_LONGITUDINAL as u32), 1, &0.003),
-            0
-        );
+        let fmu = table_instance(&dir);
         bench_geometry_cases(c, "table by similarity", fmu);
         fmi2FreeInstance(fmu);
     }

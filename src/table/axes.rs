@@ -420,9 +420,6 @@ impl AxisSpec {
             }
         };
         let similarity = self.similarity.unwrap_or(false);
-        if similarity && dim != SPEED {
-            return Err(bad(dim, "only the speed axis takes similarity"));
-        }
         let axis = Axis {
             points,
             mirrored,
@@ -611,13 +608,8 @@ impl Axes {
         if !self.0[ETA].mirrored {
             return Err(bad(ETA, "must be mirrored"));
         }
-        if self
-            .0
-            .iter()
-            .enumerate()
-            .any(|(d, a)| a.similarity && d != SPEED)
-        {
-            return Err(bad(SPEED, "only the speed axis takes similarity"));
+        if let Some(d) = (0..DIMS).find(|d| self.0[*d].similarity && *d != SPEED) {
+            return Err(bad(d, "only the speed axis takes similarity"));
         }
         if self.similarity() && (self.0[FORCE].points != [REFERENCE_FORCE] || !self.normalised()) {
             return Err(bad(

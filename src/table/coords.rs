@@ -169,6 +169,26 @@ pub fn reference_pressure(a: f64, b: f64, force: f64) -> f64 {
     peak_pressure(a, b, force) * libm::cbrt(REFERENCE_FORCE / force)
 }
 
+/// The contact similar to `point` with contact `e` at `ratio` times its load (docs/model.md §9.1): semi-axes
+/// ·s, speed and spin /s, s = sqrt(ratio), the same ξ, η, w and p0. Its F/F_N, M_z/(F_N·c), T_max, fluid
+/// share and P_f/(F_N·V) are those of `point`; a table by similarity locates both at the same coordinates.
+pub fn carried(point: &OperatingPoint, e: &Ellipse, ratio: f64) -> (OperatingPoint, Ellipse) {
+    let s = ratio.sqrt();
+    (
+        OperatingPoint {
+            normal_force: point.normal_force * ratio,
+            speed: point.speed / s,
+            spin: point.spin / s,
+            ..*point
+        },
+        Ellipse {
+            a: e.a * s,
+            b: e.b * s,
+            ..*e
+        },
+    )
+}
+
 /// The peak pressure p0 = 3·F_N/(2π·a·b) [Pa] of semi-axes a, b [m] at normal force `force` [N] (Hertz,
 /// docs/model.md §2).
 pub fn peak_pressure(a: f64, b: f64, force: f64) -> f64 {
@@ -501,17 +521,7 @@ mod tests {
         assert!((at.q[7] / peak_pressure(4e-3, 7e-3, 60e3) - 1.0).abs() < 1e-14);
         assert!((at.raw[2] - 0.3 * s).abs() < 1e-15);
         for l in [0.25, 0.7, 3.0] {
-            let other = OperatingPoint {
-                normal_force: point.normal_force * l * l,
-                speed: point.speed / l,
-                spin: point.spin / l,
-                ..point
-            };
-            let big = Ellipse {
-                a: e.a * l,
-                b: e.b * l,
-                ..e
-            };
+            let (other, big) = carried(&point, &e, l * l);
             let there = c.of(&other, &big).unwrap();
             for d in 0..DIMS {
                 assert!(

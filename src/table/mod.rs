@@ -1168,25 +1168,6 @@ mod tests {
         ]
     }
 
-    /// The contact similar to (`p`, `e`) at `ratio` times its load (docs/model.md §9.1): semi-axes ·s, speed
-    /// and spin /s, s = sqrt(ratio); its outputs per F_N, F_N·c and F_N·V are those of (`p`, `e`).
-    fn carried((p, e): (OperatingPoint, Ellipse), ratio: f64) -> (OperatingPoint, Ellipse) {
-        let s = ratio.sqrt();
-        (
-            OperatingPoint {
-                normal_force: p.normal_force * ratio,
-                speed: p.speed / s,
-                spin: p.spin / s,
-                ..p
-            },
-            Ellipse {
-                a: e.a * s,
-                b: e.b * s,
-                ..e
-            },
-        )
-    }
-
     /// `axes` (with one normal force point, F_ref among them) as a table by similarity: the normal force
     /// axis F_ref alone, the speed points equivalent speeds.
     fn similar(mut axes: Axes) -> Axes {
@@ -1417,7 +1398,10 @@ mod tests {
             let exponent = if n % 2 == 0 { 0.0 } else { Ellipse::HERTZ };
             let (pt, e) = if t.axes().similarity() {
                 c[FORCE] = axes::REFERENCE_FORCE;
-                carried(at(t, &c, exponent), 0.3 + 1.7 * rng.uniform())
+                {
+                    let (p, e) = at(t, &c, exponent);
+                    coords::carried(&p, &e, 0.3 + 1.7 * rng.uniform())
+                }
             } else {
                 at(t, &c, exponent)
             };
@@ -1782,7 +1766,7 @@ mod tests {
             let q = axes.coordinates(k);
             let node = t.coordinates().point(&q).unwrap();
             let (p, e) = if axes.similarity() {
-                carried(node, 0.1 * 25f64.powf(rng.uniform()))
+                coords::carried(&node.0, &node.1, 0.1 * 25f64.powf(rng.uniform()))
             } else {
                 node
             };

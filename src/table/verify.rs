@@ -11,7 +11,7 @@
 
 use super::axes::{DIMENSIONS, DIMS, FORCE};
 use super::build::solve_with_retry;
-use super::coords::Ellipse;
+use super::coords::{Ellipse, carried};
 use super::{Table, TableOutput};
 use crate::error::Result;
 use crate::params::OperatingPoint;
@@ -114,12 +114,7 @@ pub fn sample_points(table: &Table, n: usize, seed: u64) -> Vec<Sample> {
             if coords.similarity() {
                 let [lo, hi] = SIMILARITY_LOADS;
                 let force = lo * (hi / lo).powf(rng.uniform());
-                let s = (force / point.normal_force).sqrt();
-                point.normal_force = force;
-                point.speed /= s;
-                point.spin /= s;
-                ellipse.a *= s;
-                ellipse.b *= s;
+                (point, ellipse) = carried(&point, &ellipse, force / point.normal_force);
             }
             Sample { point, ellipse }
         })
