@@ -192,18 +192,23 @@ fn y_mirror_symmetry_holds_dry_and_wet() {
 }
 
 /// Reversing ξ alone gives (F_x, F_y, M_z) → (−F_x, F_y, M_z): exact for the dry model (wheel and rail of
-/// the same steel swap their surface speeds V(1 ± ξ/2)); with fluid the film sees the rail speed, and the
-/// difference stays below 1e-3·F_N even at ξ = 0.1 and 100 m/s — the justification for storing ξ ≥ 0 only.
+/// the same steel swap their surface speeds V(1 ± ξ/2)). With fluid the film enters at the rail's speed
+/// V(1 − ξ/2), so the mirror is approximate: deep in the film (w ≥ 0.1) within 1e-3·F_N even at ξ = 0.1 and
+/// 100 m/s, but at the onset of boundary lubrication (inlet film h_f = w·h_f,max near h_bl, w ≈ 0.003) in
+/// full slip, where the failure stress follows the film height steeply, the ±4.5 % in rail speed at
+/// ξ = ±0.09 move the force by about 1e-2·F_N (measured 9.9e-3) and T_max by 17 K — the size of the whole
+/// interpolation budget, which is why tables for wet running store both signs of ξ (docs/model.md §1).
 #[test]
-fn xi_mirror_is_exact_dry_and_close_wet() {
+fn xi_mirror_is_exact_dry_and_approximate_wet() {
     let p = params_grid(10);
-    let mut worst_wet: f64 = 0.0;
+    let mut onset: f64 = 0.0;
     for (xi, w, v, f) in [
         (0.006, 0.0, 30.0, 100e3),
         (0.1, 0.0, 100.0, 200e3),
         (0.1, 0.1, 100.0, 200e3),
         (0.1, 1.0, 100.0, 100e3),
         (0.02, 1.0, 30.0, 10e3),
+        (0.0915, 0.003, 30.0, 100e3),
     ] {
         let a = OperatingPoint {
             creepage_x: xi,
@@ -225,13 +230,14 @@ fn xi_mirror_is_exact_dry_and_close_wet() {
         if w == 0.0 {
             assert!(dx < 1e-9 && dy < 1e-9, "dry ξ {xi}: {dx:e} {dy:e}");
             assert!((ga.max_temperature.unwrap() - gb.max_temperature.unwrap()).abs() < 1e-6);
-        } else {
-            worst_wet = worst_wet.max(dx.hypot(dy));
+        } else if w >= 0.1 {
             assert!(dx.hypot(dy) < 1e-3, "wet ξ {xi} w {w}: {dx:e} {dy:e}");
+        } else {
+            onset = dx.hypot(dy);
         }
     }
-    // the asymmetry is real (the fluid sees V(1 − ξ/2)), not a sign error hidden by a loose bound
-    assert!(worst_wet > 1e-6, "{worst_wet:e}");
+    // at the onset of boundary lubrication the asymmetry is as large as the table's error budget
+    assert!((5e-3..2e-2).contains(&onset), "{onset:e}");
 }
 
 #[test]

@@ -26,8 +26,10 @@
 //! - ξ (mirrored by default, approximate): ξ → −ξ (η, φ unchanged) maps (F_x, F_y, M_z) → (−F_x, F_y, M_z):
 //!   it is the y-mirror composed with the reversal of all creepages, under which FASTSIM's traction field
 //!   changes sign. Exact for the dry model (wheel and rail of the same steel swap their surface speeds
-//!   V(1 ± ξ/2)); with fluid the film sees the rail speed, and the forces differ by at most about 5e-4·F_N
-//!   (tests/table.rs measures it).
+//!   V(1 ± ξ/2)); with fluid the film enters at the rail speed V(1 − ξ/2): within 1e-3·F_N deep in the film,
+//!   but up to about 1e-2·F_N (and 17 K) at the onset of boundary lubrication in full slip (w ≈ 0.003,
+//!   ξ ≈ 0.09; `cli/tests/table.rs` measures both), the size of the whole interpolation budget. Tables for
+//!   wet running therefore store both signs of ξ (`mirrored = false`, e.g. `tools/running-surface-axes.toml`).
 //!
 //! The η mirror needs a spin axis symmetric about 0. Generated points are computed with `libm`, so every
 //! platform produces the same bits (shards built on different machines merge).

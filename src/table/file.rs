@@ -202,7 +202,8 @@ pub fn symmetry_notes(axes: &Axes) -> Vec<String> {
     ];
     if axes.0[super::axes::XI].mirrored {
         v.push(
-            "creepage_x mirrored (exact dry, within about 5e-4 F_N wet): xi -> -xi gives \
+            "creepage_x mirrored (exact dry; wet up to about 1e-2 F_N at the onset of boundary lubrication in \
+             full slip): xi -> -xi gives \
              (F_x, F_y, M_z) -> (-F_x, F_y, M_z), temperature and fluid load unchanged"
                 .to_string(),
         );

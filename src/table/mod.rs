@@ -5,7 +5,8 @@
 //! - Axes (see [`axes`]): ξ̂, η̂, φ̂ (creepages normalised by Kalker's linear theory, cubic Hermite,
 //!   non-uniform sinh spacing dense near 0), F_N, V, w and the contact geometry a/b, p_ref (linear: V, w
 //!   multilinear, F_N, a/b, p_ref on simplices, see [`interp`]). η ≥ 0 only, by the exact y-mirror symmetry;
-//!   ξ ≥ 0 only by default, by the ξ mirror, exact dry and within about 5e-4·F_N wet.
+//!   ξ ≥ 0 only by default, by the ξ mirror, exact dry and approximate wet (up to about 1e-2·F_N at the
+//!   onset of boundary lubrication in full slip: tables for wet running store both signs).
 //! - Stored outputs (see [`file::OUTPUT_INFO`]): F_x/F_N, F_y/F_N, M_z/(F_N·c) with c = sqrt(a·b), T_max,
 //!   fluid load fraction, and a converged flag per point. The traction coefficient is |F_T|/F_N of the
 //!   interpolated forces (the solver's definition, P2).
