@@ -10,6 +10,7 @@
 use anyhow::{Result, bail};
 use std::path::{Path, PathBuf};
 use wheelrail::Tangential;
+use wheelrail::table::Storage;
 
 /// Name of the array-job script in the job directory.
 pub const BUILD_SCRIPT: &str = "build.sbatch";
@@ -37,6 +38,8 @@ pub struct SlurmJob {
     pub axes: Option<PathBuf>,
     /// Tangential solver passed to every build (`--tangential`; None: the parameter file's).
     pub tangential: Option<Tangential>,
+    /// Storage of the merged table, passed to every build (`--storage`; shards record it).
+    pub storage: Storage,
     /// Number of shards N = array tasks 1..=N.
     pub shards: usize,
     /// CPUs per task, also the worker threads of each build (`RAYON_NUM_THREADS`).
@@ -148,6 +151,9 @@ impl SlurmJob {
         if let Some(t) = self.tangential {
             inputs += &format!(" --tangential {t}");
         }
+        if !self.storage.is_f32() {
+            inputs += &format!(" --storage {}", self.storage);
+        }
         vars += &format!("export RAYON_NUM_THREADS=\"${{SLURM_CPUS_PER_TASK:-{c}}}\"\n");
         let build = format!(
             "#!/bin/bash\n\
@@ -233,6 +239,7 @@ mod tests {
             params: Some("/home/u/it's params.toml".into()),
             axes: Some("/home/u/axes.toml".into()),
             tangential: None,
+            storage: Storage::F32,
             shards: 12,
             cpus_per_task: 8,
             time: Some("02:30:00".into()),
@@ -300,6 +307,20 @@ mod tests {
             "{b}"
         );
         assert!(!job().scripts().unwrap().build.contains("--tangential"));
+    }
+
+    #[test]
+    fn a_u16_storage_is_passed_to_every_build() {
+        let j = SlurmJob {
+            storage: Storage::U16,
+            ..job()
+        };
+        let b = j.scripts().unwrap().build;
+        assert!(
+            b.contains("\"$WHEELRAIL\" table build --params \"$PARAMS\" --axes \"$AXES\" --storage u16 --shard"),
+            "{b}"
+        );
+        assert!(!job().scripts().unwrap().build.contains("--storage"));
     }
 
     #[test]

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use wheelrail::table::Table;
+use wheelrail::table::{Table, TableFiles};
 use wheelrail::{OperatingPoint, Params, solve};
 
 fn wheelrail(args: &[&str], threads: Option<&str>) -> Output {
@@ -339,6 +339,121 @@ fn builds_are_identical_whatever_the_thread_count_and_shards_merge_to_the_same_a
         assert!((o.max_temperature - g.max_temperature.unwrap()).abs() < 0.5);
     }
     cleanup("det-");
+}
+
+/// `--storage u16` stores each output as 16-bit codes (offset + step·code): half the bytes of the f32
+/// table, every value within half a step of the f32 build's, the probe nodes still pass against the exact
+/// solver, shards merge to the same bytes, and a record without its code or with a negative step is refused.
+#[test]
+fn a_u16_table_holds_the_f32_values_to_half_a_step_in_half_the_bytes() {
+    let (params, axes) = files("u16", SMALL_GRID, SMALL_AXES);
+    let (f32_dir, u16_dir) = (tmp("u16-f32"), tmp("u16-one"));
+    build(&params, &axes, &f32_dir, &[], "2");
+    build(&params, &axes, &u16_dir, &["--storage", "u16"], "2");
+    let (a, b) = (
+        TableFiles::read(&f32_dir).unwrap(),
+        TableFiles::read(&u16_dir).unwrap(),
+    );
+    let side = sidecar(&u16_dir);
+    assert_eq!(side["storage"], "u16");
+    assert!(sidecar(&f32_dir).get("storage").is_none());
+    for (o, rec) in b.sidecar.outputs.iter().enumerate() {
+        let q = rec.quantization.expect("a quantised record");
+        let (lo, hi) = a.outputs[o]
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+                (l.min(f64::from(*v)), h.max(f64::from(*v)))
+            });
+        assert_eq!(q.offset, lo, "{}", rec.name);
+        assert!((q.step * 65535.0 - (hi - lo)).abs() <= 1e-12 * (hi - lo).abs().max(1.0));
+        let worst = a.outputs[o]
+            .iter()
+            .zip(&b.outputs[o])
+            .map(|(x, y)| (f64::from(*x) - f64::from(*y)).abs())
+            .fold(0.0, f64::max);
+        // half a step, plus the f32 rounding of the value
+        assert!(
+            worst <= 0.5 * q.step + 1e-7 * hi.abs().max(lo.abs()),
+            "{}: {worst:e} > step/2 = {:e}",
+            rec.name,
+            0.5 * q.step
+        );
+        assert!(worst > 0.0 || q.step == 0.0, "{}", rec.name);
+        let bytes = |d: &Path| std::fs::metadata(d.join(&rec.file)).unwrap().len() as f64;
+        let ratio = bytes(&u16_dir) / bytes(&f32_dir);
+        assert!((0.5..0.55).contains(&ratio), "{}: {ratio}", rec.name);
+    }
+    assert_eq!(a.converged, b.converged);
+    // the probe nodes pass against the exact solver, within half a step more than an f32 table
+    let t = Table::load(&u16_dir).unwrap();
+    t.check_probes().unwrap();
+    let info = ok(&wheelrail(&["table", "info", s(&u16_dir)], None));
+    assert!(info.contains("storage         u16"), "{info}");
+
+    // shards store f32, record the storage, and merge to the same bytes as one build
+    let shards: Vec<PathBuf> = (1..=2).map(|k| tmp(&format!("u16-shard{k}"))).collect();
+    for (k, d) in shards.iter().enumerate() {
+        build(
+            &params,
+            &axes,
+            d,
+            &["--storage", "u16", "--shard", &format!("{}/2", k + 1)],
+            "2",
+        );
+        assert_eq!(sidecar(d)["storage"], "u16");
+        assert!(sidecar(d)["outputs"][0].get("quantization").is_none());
+    }
+    let merged = tmp("u16-merged");
+    ok(&wheelrail(
+        &["table", "merge", s(&merged), s(&shards[0]), s(&shards[1])],
+        None,
+    ));
+    assert_eq!(array_files(&merged), array_files(&u16_dir));
+    // shards of another storage do not merge
+    let f32_shard = tmp("u16-f32-shard");
+    build(&params, &axes, &f32_shard, &["--shard", "2/2"], "2");
+    let o = wheelrail(
+        &[
+            "table",
+            "merge",
+            s(&tmp("u16-mixed")),
+            s(&shards[0]),
+            s(&f32_shard),
+        ],
+        None,
+    );
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("storage"));
+
+    // a quantised table whose record lost its code, or has a negative step, is refused
+    let broken = |name: &str, edit: &dyn Fn(&mut serde_json::Value)| {
+        let d = tmp(name);
+        std::fs::create_dir_all(&d).unwrap();
+        for e in std::fs::read_dir(&u16_dir).unwrap() {
+            let p = e.unwrap().path();
+            std::fs::copy(&p, d.join(p.file_name().unwrap())).unwrap();
+        }
+        let mut v = sidecar(&d);
+        edit(&mut v);
+        std::fs::write(d.join("table.json"), v.to_string()).unwrap();
+        Table::load(&d).unwrap_err().to_string()
+    };
+    let e = broken("u16-no-code", &|v| {
+        v["outputs"][3]
+            .as_object_mut()
+            .unwrap()
+            .remove("quantization");
+    });
+    assert!(e.contains("max_temperature") && e.contains("u16"), "{e}");
+    let e = broken("u16-negative", &|v| {
+        v["outputs"][0]["quantization"]["step"] = (-1e-5).into();
+    });
+    assert!(e.contains("invalid quantisation"), "{e}");
+    let e = broken("u16-as-f32", &|v| {
+        v.as_object_mut().unwrap().remove("storage");
+    });
+    assert!(e.contains("an f32 array"), "{e}");
+    cleanup("u16-");
 }
 
 #[test]

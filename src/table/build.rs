@@ -30,8 +30,8 @@ use super::axes::{Axes, DIMS, ETA, FORCE, PHI, PRESSURE, RATIO, XI};
 use super::coords::{Coordinates, Ellipse};
 use super::file::{
     ArrayRecord, BuildRecord, FORMAT, FORMAT_VERSION, MODEL_VERSION, OUTPUTS, ShardRecord, Sidecar,
-    TableFiles, UnconvergedRecord, axis_records, corrupt, cube_count, cube_len, fingerprint,
-    now_iso8601, shard_indices, symmetry_notes,
+    Storage, TableFiles, UnconvergedRecord, axis_records, corrupt, cube_count, cube_len,
+    fingerprint, now_iso8601, shard_indices, symmetry_notes,
 };
 use crate::error::{Error, Result};
 use crate::params::{FrictionLaw, OperatingPoint, Params};
@@ -430,6 +430,7 @@ fn sidecar(
         description: String::new(),
         file: String::new(),
         sha256: String::new(),
+        quantization: None,
     };
     Sidecar {
         format: FORMAT.into(),
@@ -444,6 +445,7 @@ fn sidecar(
         unconverged,
         moment_scale: None,
         shard,
+        storage: Storage::F32,
         build: BuildRecord {
             date: now_iso8601(),
             duration_seconds,
@@ -487,12 +489,13 @@ pub fn merge(mut shards: Vec<(TableFiles, &Path)>) -> Result<TableFiles> {
         let same = t.sidecar.fingerprint == f.fingerprint
             && t.sidecar.params == f.params
             && t.axes == first.axes
-            && t.sidecar.model_version == f.model_version;
+            && t.sidecar.model_version == f.model_version
+            && t.sidecar.storage == f.storage;
         if !same {
             return Err(corrupt(
                 p,
                 format!(
-                    "was built with other parameters, axes or model version than {}",
+                    "was built with other parameters, axes, storage or model version than {}",
                     first_path.display()
                 ),
             ));

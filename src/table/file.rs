@@ -3,7 +3,12 @@
 //! fingerprint, the model version, build date and duration, and the SHA-256 of every array file.
 //!
 //! Arrays are little-endian f32 (u8 for the converged flags) in C order over (ξ̂, η̂, φ̂, F_N, V, w, a/b,
-//! p_ref); a shard (one of N parts of a build) holds 1-D arrays of its points instead. Array bytes depend
+//! p_ref); a shard (one of N parts of a build) holds 1-D arrays of its points instead. A full table may
+//! store its outputs as 16-bit codes instead (`storage = "u16"` in the sidecar, [`Storage`]): half the
+//! bytes, each value offset + step·code with the array's own [`Quantization`] in its record, so a value
+//! lies within step/2 ≈ range/131 070 of the computed one (F/F_N ≈ 1e-5, T_max ≈ 0.01 K). Interpolation
+//! then runs on those values as on f32 ones: the outputs stay smooth in the inputs (no jitter). Shards
+//! always store f32 and record the storage of the table they merge into. Array bytes depend
 //! only on the parameters and the axes, never on the thread count or the date: those live only in the
 //! sidecar's `build` record. Reading verifies everything and names what does not match.
 //!
@@ -106,6 +111,90 @@ pub struct AxisRecord {
     pub similarity: bool,
 }
 
+/// How a full table stores its output arrays (the converged flags are always u8).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Storage {
+    /// Little-endian f32 (4 bytes per value).
+    #[default]
+    F32,
+    /// 16-bit codes with a per-array offset and step ([`Quantization`]; 2 bytes per value).
+    U16,
+}
+
+impl Storage {
+    /// Whether this is the default f32 storage (not recorded in the sidecar, so that f32 tables keep
+    /// their sidecars byte for byte).
+    pub fn is_f32(&self) -> bool {
+        *self == Storage::F32
+    }
+}
+
+impl std::fmt::Display for Storage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Storage::F32 => "f32",
+            Storage::U16 => "u16",
+        })
+    }
+}
+
+/// The linear 16-bit code of one array: value = offset + step·code, code 0..=65535, offset the array's
+/// smallest value and step its range / 65535 (0 for a constant array): rounding to the nearest code errs
+/// by at most step/2.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Quantization {
+    /// Value of code 0 (the smallest value).
+    pub offset: f64,
+    /// Value step per code (≥ 0).
+    pub step: f64,
+}
+
+impl Quantization {
+    /// Largest code.
+    const TOP: f64 = u16::MAX as f64;
+
+    /// The quantisation of `values` and their codes; an error for a non-finite value.
+    pub fn of(values: &[f32]) -> std::result::Result<(Quantization, Vec<u16>), String> {
+        if values.iter().any(|v| !v.is_finite()) {
+            return Err("non-finite values cannot be stored as u16".into());
+        }
+        let (lo, hi) = values
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(f64::from(*v)), hi.max(f64::from(*v)))
+            });
+        let q = Quantization {
+            offset: if lo.is_finite() { lo } else { 0.0 },
+            step: if hi > lo { (hi - lo) / Self::TOP } else { 0.0 },
+        };
+        let codes = values
+            .iter()
+            .map(|v| {
+                if q.step > 0.0 {
+                    ((f64::from(*v) - q.offset) / q.step)
+                        .round()
+                        .clamp(0.0, Self::TOP) as u16
+                } else {
+                    0
+                }
+            })
+            .collect();
+        Ok((q, codes))
+    }
+
+    /// The value of `code`, rounded to the f32 the table keeps in memory.
+    pub fn value(&self, code: u16) -> f32 {
+        (self.offset + self.step * f64::from(code)) as f32
+    }
+
+    /// Whether offset and step are finite and the step is not negative.
+    fn valid(&self) -> bool {
+        self.offset.is_finite() && self.step.is_finite() && self.step >= 0.0
+    }
+}
+
 /// One array file in the sidecar.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -120,6 +209,9 @@ pub struct ArrayRecord {
     pub file: String,
     /// SHA-256 of the file's bytes (lower-case hex).
     pub sha256: String,
+    /// The code of a u16 array ([`Storage::U16`]; absent for f32 and u8 arrays).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub quantization: Option<Quantization>,
 }
 
 /// A stored point whose exact solution did not converge even after the retry.
@@ -189,6 +281,10 @@ pub struct Sidecar {
     pub moment_scale: Option<serde_json::Value>,
     /// Set for one part of a sharded build.
     pub shard: Option<ShardRecord>,
+    /// How the outputs are stored ([`Storage`]; a shard stores f32 and records the storage of the table
+    /// it merges into).
+    #[serde(default, skip_serializing_if = "Storage::is_f32")]
+    pub storage: Storage,
     /// Date, duration, threads.
     pub build: BuildRecord,
 }
@@ -429,8 +525,13 @@ impl TableFiles {
         }
     }
 
+    /// Whether the output arrays are stored as u16 codes: a full table whose storage is u16.
+    pub fn quantised(&self) -> bool {
+        self.sidecar.storage == Storage::U16 && self.sidecar.shard.is_none()
+    }
+
     /// Writes the arrays, then the sidecar (with their hashes), into `dir` (created if missing), in the
-    /// current format version.
+    /// current format version. With u16 storage the outputs in memory become the values of their codes.
     pub fn write(&mut self, dir: &Path) -> Result<()> {
         let io = |p: &Path, e: std::io::Error| corrupt(p, format!("cannot write: {e}"));
         std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
@@ -440,11 +541,21 @@ impl TableFiles {
             self.sidecar.axes = axis_records(&self.axes);
         }
         let shape = self.array_shape();
+        let quantised = self.quantised();
         let mut records = Vec::with_capacity(OUTPUTS);
-        for (info, data) in OUTPUT_INFO.iter().zip(&self.outputs) {
-            let bytes = npy_bytes(data, &shape);
+        for (info, data) in OUTPUT_INFO.iter().zip(self.outputs.iter_mut()) {
             let file = format!("{}.npy", info.name);
             let path = dir.join(&file);
+            let (bytes, quantization) = if quantised {
+                let (q, codes) = Quantization::of(data).map_err(|e| corrupt(&path, e))?;
+                // the table in memory holds what a read of the files gives
+                for (v, c) in data.iter_mut().zip(&codes) {
+                    *v = q.value(*c);
+                }
+                (npy_bytes(&codes, &shape), Some(q))
+            } else {
+                (npy_bytes(data, &shape), None)
+            };
             std::fs::write(&path, &bytes).map_err(|e| io(&path, e))?;
             records.push(ArrayRecord {
                 name: info.name.into(),
@@ -452,6 +563,7 @@ impl TableFiles {
                 description: info.description.into(),
                 file,
                 sha256: sha256_hex(&bytes),
+                quantization,
             });
         }
         let bytes = npy_bytes(&self.converged, &shape);
@@ -466,6 +578,7 @@ impl TableFiles {
                     .into(),
             file: CONVERGED_FILE.into(),
             sha256: sha256_hex(&bytes),
+            quantization: None,
         };
         let text = serde_json::to_string_pretty(&self.sidecar).expect("sidecar serialises") + "\n";
         let path = dir.join(SIDECAR);
@@ -550,12 +663,41 @@ impl TableFiles {
             None if sidecar.format_version == 1 => axes.shape()[..RATIO].to_vec(),
             None => axes.shape().to_vec(),
         };
+        let quantised = sidecar.storage == Storage::U16 && sidecar.shard.is_none();
         let mut outputs = Vec::with_capacity(OUTPUTS);
         for rec in &sidecar.outputs {
+            let path = dir.join(&rec.file);
+            if rec.quantization.is_some() != quantised {
+                return Err(corrupt(
+                    &path,
+                    format!(
+                        "storage {} of a {} needs {} array",
+                        sidecar.storage,
+                        if sidecar.shard.is_some() {
+                            "shard"
+                        } else {
+                            "table"
+                        },
+                        if quantised {
+                            "a quantised u16"
+                        } else {
+                            "an f32"
+                        }
+                    ),
+                ));
+            }
             // version 1 stored f64: rounded to the f32 the table keeps in memory
             let v: Vec<f32> = if sidecar.format_version == 1 {
                 let a: ArrayD<f64> = read_array(dir, rec, &shape)?;
                 a.iter().map(|x| *x as f32).collect()
+            } else if let Some(q) = rec.quantization {
+                if !q.valid() {
+                    return Err(corrupt(&path, format!("invalid quantisation {q:?}")));
+                }
+                read_array::<u16>(dir, rec, &shape)?
+                    .iter()
+                    .map(|c| q.value(*c))
+                    .collect()
             } else {
                 read_array::<f32>(dir, rec, &shape)?
                     .into_raw_vec_and_offset()
@@ -710,6 +852,30 @@ mod tests {
         let back: Params = serde_json::from_str(&text).unwrap();
         assert_eq!(back, p);
         assert_eq!(fingerprint(&back), fingerprint(&p));
+    }
+
+    #[test]
+    fn quantisation_codes_span_the_range_and_round_to_the_nearest_code() {
+        let values: Vec<f32> = (0..1000)
+            .map(|i| (f64::from(i) * 0.37).sin() as f32 * 0.6 + 300.0)
+            .collect();
+        let (q, codes) = Quantization::of(&values).unwrap();
+        assert_eq!(*codes.iter().min().unwrap(), 0);
+        assert_eq!(*codes.iter().max().unwrap(), u16::MAX);
+        for (v, c) in values.iter().zip(&codes) {
+            let back = f64::from(q.value(*c));
+            // half a step, plus the f32 rounding of a value near 300
+            assert!(
+                (back - f64::from(*v)).abs() <= 0.5 * q.step + 3e-5,
+                "{v} {back}"
+            );
+        }
+        // a constant array: step 0, every code 0, the value itself
+        let (q, codes) = Quantization::of(&[0.25; 7]).unwrap();
+        assert_eq!((q.offset, q.step), (0.25, 0.0));
+        assert!(codes.iter().all(|c| *c == 0) && q.value(0) == 0.25);
+        assert!(Quantization::of(&[1.0, f32::NAN]).is_err());
+        assert!(Quantization::of(&[f32::INFINITY]).is_err());
     }
 
     #[test]

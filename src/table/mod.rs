@@ -25,7 +25,9 @@ pub mod verify;
 pub use axes::{Axes, AxesSpec, Axis, AxisSpec, DIMENSIONS, DIMS, Interpolation, Spacing};
 pub use build::{build, merge, solve_with_retry, tabulate};
 pub use coords::{Coordinates, Ellipse};
-pub use file::{OUTPUT_INFO, OUTPUTS, ShardRecord, Sidecar, TableFiles, fingerprint};
+pub use file::{
+    OUTPUT_INFO, OUTPUTS, Quantization, ShardRecord, Sidecar, Storage, TableFiles, fingerprint,
+};
 
 use crate::error::{Error, Result};
 use crate::params::{OperatingPoint, Params};
@@ -312,6 +314,18 @@ impl Table {
             .collect()
     }
 
+    /// The probe tolerance of output `o`: [`PROBE_TOLERANCE`], plus half the code step of a table stored
+    /// as u16 codes (rounding to the nearest code: e.g. 9e-6 of F/F_N, 0.005 K of T_max).
+    fn probe_tolerance(&self, o: usize) -> f64 {
+        let half_step = self
+            .sidecar
+            .outputs
+            .get(o)
+            .and_then(|r| r.quantization)
+            .map_or(0.0, |q| 0.5 * q.step * (1.0 + 1e-6));
+        PROBE_TOLERANCE[o] + half_step
+    }
+
     /// Proof that the present model computed this table (issue 16): the exact solver solves the
     /// [`Table::probe_nodes`] cold and must reproduce the stored outputs (measured on the default table,
     /// 200 nodes: within 1.5e-8 for F/F_N, M_z/(F_N·c), the fluid load fraction and P_f/(F_N·V) and 3e-5 K for
@@ -331,7 +345,7 @@ impl Table {
             let stale = (0..OUTPUTS).find(|&o| {
                 let (a, b) = (f64::from(want[o]), f64::from(stored[VAL[o]]));
                 // a format-1 table stores no frictional power (NaN)
-                let within = (a - b).abs() <= PROBE_TOLERANCE[o];
+                let within = (a - b).abs() <= self.probe_tolerance(o);
                 let absent = b.is_nan() && o == OUTPUTS - 1;
                 !(within || absent)
             });

@@ -13,6 +13,7 @@ use std::path::PathBuf;
 use wheelrail::params::spec::Spec;
 use wheelrail::params::{Input, Key, Param};
 use wheelrail::solver::{GlobalResults, SolverReport};
+use wheelrail::table::Storage;
 use wheelrail::{FrictionLaw, OperatingPoint, Params, Pressure, Tangential};
 
 /// Wheel–rail friction after Tomberger et al. (Wear 271, 2011): exact coupled solver.
@@ -49,6 +50,25 @@ pub enum LawArg {
     Constant,
     /// Polach's closed form.
     Polach,
+}
+
+/// Table storage names on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum StorageArg {
+    /// Little-endian f32 arrays (4 bytes per value).
+    F32,
+    /// 16-bit codes with a per-array offset and step (2 bytes per value; rounding ≤ range/131 070: about
+    /// 1e-5 of F/F_N, 0.01 K of T_max).
+    U16,
+}
+
+impl From<StorageArg> for Storage {
+    fn from(s: StorageArg) -> Storage {
+        match s {
+            StorageArg::F32 => Storage::F32,
+            StorageArg::U16 => Storage::U16,
+        }
+    }
 }
 
 /// Tangential solver names on the command line.

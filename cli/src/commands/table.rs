@@ -2,7 +2,7 @@
 //! of sharded builds (issue 13), and the JSON of a point
 //! evaluated by table (`wheelrail point --table DIR`, [`point_json`]).
 
-use super::TangentialArg;
+use super::{StorageArg, TangentialArg};
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -59,6 +59,10 @@ struct BuildArgs {
     /// cluster array job; join the parts with `wheelrail table merge`.
     #[arg(long, value_name = "K/N")]
     shard: Option<String>,
+    /// How the table stores its outputs: f32, or u16 (16-bit codes, half the bytes: rounding about 1e-5
+    /// of F/F_N and 0.01 K of T_max). A shard stores f32 and records it for `wheelrail table merge`.
+    #[arg(long, value_enum, default_value = "f32")]
+    storage: StorageArg,
 }
 
 #[derive(Debug, Args)]
@@ -79,6 +83,9 @@ struct SlurmArgs {
     /// Axes file (TOML) of every shard [default: the built-in axes].
     #[arg(long, value_name = "FILE.toml")]
     axes: Option<PathBuf>,
+    /// Storage of the merged table (`table build --storage`).
+    #[arg(long, value_enum, default_value = "f32")]
+    storage: StorageArg,
     /// CPUs per array task, also each build's worker threads (RAYON_NUM_THREADS).
     #[arg(long, value_name = "C", default_value_t = 1)]
     cpus_per_task: usize,
@@ -194,6 +201,7 @@ fn build(a: &BuildArgs) -> Result<()> {
     );
     let pb = progress(points, "points");
     let mut files = table::build(&params, &axes, shard, &|| pb.inc(1))?;
+    files.sidecar.storage = a.storage.into();
     pb.finish_and_clear();
     files.write(&a.out)?;
     report_written(&a.out, &files);
@@ -287,6 +295,7 @@ fn slurm(a: &SlurmArgs) -> Result<()> {
             .map(|p| canonical("axes file", p))
             .transpose()?,
         tangential: a.tangential.map(Into::into),
+        storage: a.storage.into(),
         shards: a.shards,
         cpus_per_task: a.cpus_per_task,
         time: a.time.clone(),
@@ -562,6 +571,7 @@ fn info(dir: &Path) -> Result<()> {
         .filter_map(|r| std::fs::metadata(dir.join(&r.file)).ok())
         .map(|m| m.len())
         .sum();
+    println!("  storage         {}", s.storage);
     println!(
         "  outputs         {} ({:.2} MB of arrays)",
         s.outputs
