@@ -1768,6 +1768,73 @@ mod tests {
         }
     }
 
+    /// Where the coupled thermal problem has two steady states, a node holds the one the exact solver
+    /// finds from a cold start (what `table verify`, `wheelrail point` and a fresh FMU instance compute),
+    /// whatever the continuation line it was solved on. Hot, fast, high-pressure contact at the onset of
+    /// boundary lubrication (equivalent speed 65 m/s, p0 1.2 GPa, a/b 1.2, w 0.013, 10 × 10 cells): the line
+    /// of ξ comes from ξ = −0.116 (T_max 1049 K) to −0.070, where a warm temperature led to the hot state
+    /// (898 K, F_x/F_N 0.117) and the cold start to 579 K (0.0925); at +0.116, from +0.070 (583 K), the warm
+    /// temperature gave 727 K and the cold start 1050 K.
+    #[test]
+    fn built_nodes_are_the_cold_start_solutions_where_the_heat_has_two_steady_states() {
+        let spec: axes::AxesSpec = toml::from_str(
+            r#"
+            [creepage_x]
+            points = [-22.0, -13.117, 0.0, 13.117, 22.0]
+            raw_limit = 0.1
+            raw_scale = 193.0
+            [creepage_y]
+            points = [0.0, 0.9531, 1.6077]
+            raw_limit = 0.02
+            raw_scale = 170.0
+            [spin]
+            points = [-0.349, -0.1097, 0.1097, 0.349]
+            raw_limit = 1.0
+            raw_scale = 0.4
+            [normal_force]
+            points = [100e3]
+            [speed]
+            similarity = true
+            points = [65.097]
+            [wetness]
+            points = [0.013]
+            [semi_axis_ratio]
+            points = [1.2]
+            [reference_pressure]
+            points = [1.2e9]
+            "#,
+        )
+        .unwrap();
+        let axes = Axes::from_spec(&spec).unwrap();
+        let mut params = Params::default();
+        params.grid.nx = 10;
+        params.grid.ny = 10;
+        let files = build::build(&params, &axes, None, &|| ()).unwrap();
+        let mut hottest: f64 = 0.0;
+        for k in 0..axes.len() {
+            let (p, e) = Coordinates::new(&params, &axes)
+                .point(&axes.coordinates(k))
+                .unwrap();
+            let mut exact = params.clone();
+            exact.geometry.semi_axes = Some([e.a, e.b]);
+            let s = crate::solve(&exact, &p).unwrap();
+            let t = s.global.max_temperature.unwrap();
+            hottest = hottest.max(t);
+            let stored = [files.outputs[0][k], files.outputs[3][k]].map(f64::from);
+            let want = [s.global.force_x / p.normal_force, t];
+            assert!(
+                (stored[0] - want[0]).abs() < 1e-5 && (stored[1] - want[1]).abs() < 1e-2,
+                "node {k} {p:?}: stored F_x/F_N {}, T_max {} against the cold start's {}, {}",
+                stored[0],
+                stored[1],
+                want[0],
+                want[1]
+            );
+        }
+        // the hot state is reached: the test runs where the two steady states are
+        assert!(hottest > 1000.0, "{hottest}");
+    }
+
     /// A table over `axes` holds the exact solutions at 20 random nodes, and evaluates to them there; a
     /// table by similarity at contacts carried from the nodes' (at F_ref) to 0.1–2.5 × F_ref, whose exact
     /// solutions are compared.
