@@ -67,10 +67,26 @@ pub struct Sample {
 /// The normal forces [N] a table built by similarity is verified at (issue 13's range of wheel–rail loads).
 pub const SIMILARITY_LOADS: [f64; 2] = [10e3, 250e3];
 
+/// The rolling speeds [m/s] a table built by similarity is verified at (the speed range of the tables; its
+/// equivalent speeds V·sqrt(F_N/F_ref) 0.32–158 m/s cover them at every load of [`SIMILARITY_LOADS`]).
+pub const SIMILARITY_SPEEDS: [f64; 2] = [1.0, 100.0];
+
+/// The load range [N] over which a sample of equivalent speed `equivalent` [m/s] (at F_ref) is carried:
+/// the loads of [`SIMILARITY_LOADS`] at which its speed V = equivalent/s, s = sqrt(F_N/F_ref), lies in
+/// [`SIMILARITY_SPEEDS`]; if none does, the load of the nearest speed (one end of the load range).
+pub fn similarity_loads(equivalent: f64) -> [f64; 2] {
+    let [lo, hi] = SIMILARITY_LOADS;
+    let [v_lo, v_hi] = SIMILARITY_SPEEDS;
+    // the load at which the sample rolls at v: equivalent = v·sqrt(F_N/F_ref)
+    let load = |v: f64| (super::axes::REFERENCE_FORCE * (equivalent / v).powi(2)).clamp(lo, hi);
+    [load(v_hi), load(v_lo)]
+}
+
 /// `n` sample points of a table: even samples uniform over the ranges, odd ones at random cell midpoints
 /// (random sign on mirrored creepages), the creepages within the raw limits of the sampled contact. In a
 /// table built by similarity (docs/model.md §9.1) each sample is the contact at F_ref so drawn, carried to
-/// a load F_N log-uniform in [`SIMILARITY_LOADS`]: semi-axes ·s, speed and spin /s, s = sqrt(F_N/F_ref)
+/// a load F_N log-uniform in [`SIMILARITY_LOADS`], as far as its speed stays in [`SIMILARITY_SPEEDS`]
+/// ([`similarity_loads`]): semi-axes ·s, speed and spin /s, s = sqrt(F_N/F_ref)
 /// (the exact solver then sees a contact of another size, load and speed whose equivalent is the sample).
 pub fn sample_points(table: &Table, n: usize, seed: u64) -> Vec<Sample> {
     let mut rng = SplitMix64::new(seed);
@@ -112,7 +128,7 @@ pub fn sample_points(table: &Table, n: usize, seed: u64) -> Vec<Sample> {
             }
             let (mut point, mut ellipse) = coords.point(&q).expect("a valid table point");
             if coords.similarity() {
-                let [lo, hi] = SIMILARITY_LOADS;
+                let [lo, hi] = similarity_loads(point.speed);
                 let force = lo * (hi / lo).powf(rng.uniform());
                 (point, ellipse) = carried(&point, &ellipse, force / point.normal_force);
             }
@@ -426,6 +442,27 @@ mod tests {
         assert!(top > 0.5 * t.axes().0[0].raw_limit.unwrap(), "{top}");
         assert_eq!(pts, sample_points(&t, 400, 3));
         assert_ne!(pts, sample_points(&t, 400, 4));
+    }
+
+    #[test]
+    fn similarity_samples_roll_at_the_tables_speeds() {
+        let speed = |equivalent: f64, load: f64| equivalent / (load / 100e3).sqrt();
+        for equivalent in [0.5, 3.0, 10.0, 31.6, 100.0, 150.0] {
+            let [lo, hi] = similarity_loads(equivalent);
+            assert!(SIMILARITY_LOADS[0] <= lo && lo < hi && hi <= SIMILARITY_LOADS[1]);
+            for f in [lo, (lo * hi).sqrt(), hi] {
+                let v = speed(equivalent, f);
+                assert!(
+                    (1.0 - 1e-12..=100.0 + 1e-9).contains(&v),
+                    "{equivalent} {f} {v}"
+                );
+            }
+        }
+        // 10 m/s equivalent: V = 10/s, s = 0.32–1.58: 6.3–31.6 m/s at every load
+        assert_eq!(similarity_loads(10.0), SIMILARITY_LOADS);
+        // the ends: only the lightest load gets 0.3 m/s closest to 1 m/s, only the heaviest 200 m/s to 100
+        assert_eq!(similarity_loads(0.3), [10e3, 10e3]);
+        assert_eq!(similarity_loads(200.0), [250e3, 250e3]);
     }
 
     #[test]
