@@ -879,7 +879,7 @@ mod tests {
         let default = Axes::from_toml_file(&tools.join("default-contact-axes.toml")).unwrap();
         assert_eq!((default.len(), default.similarity()), (693_000, false));
         let surface = Axes::from_toml_file(&tools.join("running-surface-axes.toml")).unwrap();
-        assert_eq!((surface.len(), surface.similarity()), (2_402_400, true));
+        assert_eq!((surface.len(), surface.similarity()), (4_596_480, true));
         assert_eq!(surface.0[FORCE].points, [REFERENCE_FORCE]);
     }
 
