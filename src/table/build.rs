@@ -8,9 +8,10 @@
 //! fixed point a cold start finds: where the coupled heat problem has two steady states (hot, fast contacts
 //! in full slip near the onset of boundary lubrication) a predecessor's temperature could settle on the
 //! other one — measured: T_max 898 against 579 K, F_x/F_N 0.117 against 0.093, at equivalent speed 65 m/s,
-//! p0 1.2 GPa, ξ = −0.07 after −0.116 (a full warm start is 1.2× faster, a cold start 1.6× slower); the cubes are independent, solved in parallel, each single-threaded and deterministic,
-//! and the results are collected in index order, so the array bytes do not depend on the thread count or
-//! the scheduling. A shard holds whole cubes.
+//! p0 1.2 GPa, ξ = −0.07 after −0.116 (a full warm start is 1.2× faster, a cold start 1.6× slower). The
+//! cubes are independent, solved in parallel, each single-threaded and deterministic, and the results are
+//! collected in index order, so the array bytes do not depend on the thread count or the scheduling. A
+//! shard holds whole cubes.
 //!
 //! **Coverage windows.** Normalised creepage axes span the raw ranges of the softest contact of the table;
 //! a stiff contact reaches its raw limit (|ξ| ≤ 0.1, …) long before the end of the axis, and beyond it the
