@@ -289,6 +289,14 @@ pub struct Sidecar {
     pub build: BuildRecord,
 }
 
+impl Sidecar {
+    /// Whether the output arrays are stored as u16 codes: a full table whose storage is u16 (a shard
+    /// stores f32 whatever storage it records).
+    pub fn quantised(&self) -> bool {
+        self.storage == Storage::U16 && self.shard.is_none()
+    }
+}
+
 /// The symmetry statements recorded in the sidecar.
 pub fn symmetry_notes(axes: &Axes) -> Vec<String> {
     let mut v = vec![
@@ -525,11 +533,6 @@ impl TableFiles {
         }
     }
 
-    /// Whether the output arrays are stored as u16 codes: a full table whose storage is u16.
-    pub fn quantised(&self) -> bool {
-        self.sidecar.storage == Storage::U16 && self.sidecar.shard.is_none()
-    }
-
     /// Writes the arrays, then the sidecar (with their hashes), into `dir` (created if missing), in the
     /// current format version. With u16 storage the outputs in memory become the values of their codes.
     pub fn write(&mut self, dir: &Path) -> Result<()> {
@@ -541,7 +544,7 @@ impl TableFiles {
             self.sidecar.axes = axis_records(&self.axes);
         }
         let shape = self.array_shape();
-        let quantised = self.quantised();
+        let quantised = self.sidecar.quantised();
         let mut records = Vec::with_capacity(OUTPUTS);
         for (info, data) in OUTPUT_INFO.iter().zip(self.outputs.iter_mut()) {
             let file = format!("{}.npy", info.name);
@@ -663,7 +666,7 @@ impl TableFiles {
             None if sidecar.format_version == 1 => axes.shape()[..RATIO].to_vec(),
             None => axes.shape().to_vec(),
         };
-        let quantised = sidecar.storage == Storage::U16 && sidecar.shard.is_none();
+        let quantised = sidecar.quantised();
         let mut outputs = Vec::with_capacity(OUTPUTS);
         for rec in &sidecar.outputs {
             let path = dir.join(&rec.file);

@@ -1413,10 +1413,8 @@ mod tests {
             let exponent = if n % 2 == 0 { 0.0 } else { Ellipse::HERTZ };
             let (pt, e) = if t.axes().similarity() {
                 c[FORCE] = axes::REFERENCE_FORCE;
-                {
-                    let (p, e) = at(t, &c, exponent);
-                    coords::carried(&p, &e, 0.3 + 1.7 * rng.uniform())
-                }
+                let (p, e) = at(t, &c, exponent);
+                coords::carried(&p, &e, 0.3 + 1.7 * rng.uniform())
             } else {
                 at(t, &c, exponent)
             };
