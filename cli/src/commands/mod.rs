@@ -60,6 +60,9 @@ pub enum StorageArg {
     /// 16-bit codes with a per-array offset and step (2 bytes per value; rounding ≤ range/131 070: about
     /// 1e-5 of F/F_N, 0.01 K of T_max).
     U16,
+    /// The u16 codes compressed (differences along φ̂ and V, zlib): the same values in about a third of the
+    /// bytes of u16.
+    U16z,
 }
 
 impl From<StorageArg> for Storage {
@@ -67,6 +70,7 @@ impl From<StorageArg> for Storage {
         match s {
             StorageArg::F32 => Storage::F32,
             StorageArg::U16 => Storage::U16,
+            StorageArg::U16z => Storage::U16z,
         }
     }
 }
