@@ -106,6 +106,9 @@ pub enum Fallback {
     /// The evaluation's contact lies outside the table's geometry axes (a/b, p_ref); the table was built
     /// for the other parameters.
     OtherGeometry,
+    /// The point lies in a cell across which the tabulated T_max jumps (a film-loss jump,
+    /// [`crate::table::TableOutput::resolved`]).
+    Unresolved,
 }
 
 /// Something an evaluation did that its caller may want to report (the evaluator reports it every time;
@@ -419,29 +422,35 @@ impl Evaluator {
             };
         };
         let (e, p0) = self.contact(geometry, point.normal_force)?;
-        // the first table that covers the contact and holds the point inside its ranges; the first that
-        // covers it at all (table-only clamps to it). Each evaluation flags a point outside the ranges (and
-        // an invalid one is an error), as `Table::in_range` would: evaluating once is half the cost of
-        // asking first
-        let mut clamped = None;
+        // the first table that covers the contact, holds the point inside its ranges and resolves its cell;
+        // else the first that holds it in an unresolved cell (table-only serves it as it is), else the
+        // first that covers the contact at all (table-only clamps to it). Each evaluation flags a point
+        // outside the ranges (and an invalid one is an error), as `Table::in_range` would: evaluating once
+        // is half the cost of asking first
+        let (mut unresolved, mut clamped) = (None, None);
         for table in self.matching() {
             let Some(output) = O::covered(table, point, &e) else {
                 continue;
             };
-            if output.as_ref().is_ok_and(|o| o.outputs().in_range) {
-                return Ok((Some(ByTable(e, p0, output)), None));
-            }
-            if clamped.is_none() {
-                clamped = Some(output);
+            match output
+                .as_ref()
+                .map(|o| (o.outputs().in_range, o.outputs().resolved))
+            {
+                Ok((true, true)) => return Ok((Some(ByTable(e, p0, output)), None)),
+                Ok((true, false)) if unresolved.is_none() => unresolved = Some(output),
+                _ if clamped.is_none() => clamped = Some(output),
+                _ => {}
             }
         }
-        match (self.mode, clamped) {
-            (Mode::TableOnly, Some(output)) => {
+        match (self.mode, unresolved, clamped) {
+            (Mode::TableOnly, Some(output), _) => Ok((Some(ByTable(e, p0, output)), None)),
+            (Mode::TableOnly, None, Some(output)) => {
                 Ok((Some(ByTable(e, p0, output)), Some(Notice::Clamped)))
             }
-            (Mode::TableOnly, None) => Err(built.outside_geometry(&e, point.normal_force)),
-            (_, Some(_)) => Ok((None, Some(Notice::FellBack(Fallback::OutsideRanges)))),
-            (_, None) => Ok((None, Some(Notice::FellBack(Fallback::OtherGeometry)))),
+            (Mode::TableOnly, None, None) => Err(built.outside_geometry(&e, point.normal_force)),
+            (_, Some(_), _) => Ok((None, Some(Notice::FellBack(Fallback::Unresolved)))),
+            (_, None, Some(_)) => Ok((None, Some(Notice::FellBack(Fallback::OutsideRanges)))),
+            (_, None, None) => Ok((None, Some(Notice::FellBack(Fallback::OtherGeometry)))),
         }
     }
 
@@ -571,6 +580,7 @@ impl Evaluator {
                 frictional_power: Some(0.0),
                 in_range: true,
                 converged: true,
+                resolved: true,
             }),
             patch: Patch {
                 semi_axis_a: 0.0,

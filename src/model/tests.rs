@@ -961,3 +961,42 @@ fn several_tables_take_each_point_to_the_first_that_holds_it() {
         [Notice::FellBack(Fallback::OtherParameters)]
     );
 }
+
+#[test]
+fn auto_solves_points_in_cells_the_table_does_not_resolve_and_table_only_serves_them() {
+    use crate::table::axes::WET;
+    // the small table with T_max 400 K higher at its last wetness node: every cell next to it holds the
+    // jump, the point inside() among them
+    let mut files = crate::table::build(&params(), &small_axes(), None, &|| ()).unwrap();
+    let shape = files.axes.shape();
+    let stride: usize = shape[WET + 1..].iter().product();
+    for (i, t) in files.outputs[3].iter_mut().enumerate() {
+        if (i / stride) % shape[WET] == shape[WET] - 1 {
+            *t += 400.0;
+        }
+    }
+    let jumpy = Arc::new(Table::from_files(files, None).unwrap());
+    let with = |mode: Mode| {
+        Evaluator::new(
+            Model::new(params()).unwrap(),
+            mode,
+            Some(jumpy.clone()),
+            Policy::default(),
+        )
+        .unwrap()
+    };
+    let r = eval(&with(Mode::Auto), &inside());
+    assert!(matches!(r.by, Evaluated::Exact(_)));
+    assert_eq!(notice_list(&r), [Notice::FellBack(Fallback::Unresolved)]);
+    let s = crate::solve(&params(), &inside()).unwrap();
+    assert_eq!(r.outputs().unwrap().force_x, s.global.force_x);
+    // table-only serves it as the table interpolates it, inside the ranges: nothing to report
+    let r = eval(&with(Mode::TableOnly), &inside());
+    let Evaluated::Table(o) = r.by else {
+        panic!("table-only evaluated by {:?}", r.by)
+    };
+    assert!(r.notices.is_empty() && o.in_range && !o.resolved);
+    // the unchanged table resolves the point
+    let r = eval(&evaluator(Mode::Auto, params()), &inside());
+    assert!(matches!(r.by, Evaluated::Table(o) if o.resolved));
+}

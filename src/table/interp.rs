@@ -403,6 +403,12 @@ impl CubicStencil {
         out
     }
 
+    /// The interval's lower node (stored index; the window's second point).
+    #[inline(always)]
+    pub fn lower(&self) -> usize {
+        (self.start + self.a as isize).unsigned_abs()
+    }
+
     /// For slopes given at the points: the first point of the interval (stored index), and the weights of
     /// (y_i, y'_i, y_(i+1), y'_(i+1)) and their derivatives with respect to the coordinate.
     #[inline(always)]

@@ -61,6 +61,12 @@ pub struct TableOutput {
     pub in_range: bool,
     /// Whether every table point used by the interpolation converged when the table was built.
     pub converged: bool,
+    /// Whether the table resolves the point's cell: its stored T_max varies by at most
+    /// [`JUMP_SPREAD`] across the cell's corners. Where it varies more, the cell holds a jump of the
+    /// model — the hottest region of a hot wet contact losing its film, T_max rising by ~330 K within
+    /// 0.2 % of creepage (docs/model.md §12.3) — which no interpolation follows; mode auto solves such
+    /// points exactly.
+    pub resolved: bool,
 }
 
 impl TableOutput {
@@ -91,6 +97,7 @@ impl TableOutput {
             frictional_power: Some(g.frictional_power),
             in_range: true,
             converged: report.converged,
+            resolved: true,
         })
     }
 }
@@ -107,6 +114,13 @@ pub type Jacobian = [[f64; INPUTS]; JACOBIAN_ROWS];
 
 /// Rows of a [`Jacobian`].
 pub const JACOBIAN_ROWS: usize = 6;
+
+/// The largest spread of the stored T_max across the corners of a cell that the table serves in mode auto
+/// [K] ([`TableOutput::resolved`]). Measured on the running-surface table (10 × 10 cells, `table verify`
+/// 2000 samples, seeds 1–3): cells of spread ≤ 300 K hold 95 % of the samples, whose T_max errs by p99
+/// 6.0–6.8 K, max 9.9–13.8 K, against p99 23–37 K, max 100–154 K over all; 200 K: 88–89 % of the samples,
+/// p99 5.6–5.9 K; 400 K: 96 %, max 25–35 K.
+pub const JUMP_SPREAD: f64 = 300.0;
 
 /// Number of nodes a loaded table is checked at ([`Table::check_probes`]).
 pub const PROBES: usize = 3;
@@ -142,6 +156,7 @@ struct Core {
     v: [f64; OUTPUTS],
     d: [[f64; DIMS]; OUTPUTS],
     converged: bool,
+    resolved: bool,
 }
 
 /// The instruction set of the lookup kernel: one source compiled twice, chosen once per table by the CPU it
@@ -196,6 +211,9 @@ pub struct Table {
     /// Per point in memory order: whether it converged (1) when the table was built.
     converged: Vec<u8>,
     all_converged: bool,
+    /// Per point in memory order: 1 where the cell whose lowest corner it is does not resolve its T_max
+    /// ([`TableOutput::resolved`], [`unresolved_cells`]); empty where every cell does.
+    unresolved: Vec<u8>,
     /// Whether lookups prefetch the rows of the next ξ̂ window node (tables larger than `PREFETCH_ABOVE`).
     prefetch: bool,
     bulk_temperature: f64,
@@ -268,7 +286,18 @@ impl Table {
         }
         let interp =
             std::array::from_fn(|d| AxisInterp::new(&axes.0[d], axes.0[d].interpolation(d)));
+        let mut unresolved = vec![0; n];
+        for (i, u) in unresolved_cells(&shape, &files.outputs[3])
+            .iter()
+            .enumerate()
+        {
+            unresolved[memory[i]] = *u;
+        }
+        if unresolved.iter().all(|u| *u == 0) {
+            unresolved = Vec::new();
+        }
         Ok(Table {
+            unresolved,
             bulk_temperature: files.sidecar.params.material.bulk_temperature,
             coordinates: Coordinates::new(&files.sidecar.params, &axes),
             has_power: files.sidecar.format_version > 1,
@@ -635,6 +664,7 @@ impl Table {
                 .then(|| (f * point.speed.abs() * core.v[5]).max(0.0)),
             in_range: inside.iter().all(|x| *x) && self.within_raw_limits(&at.raw),
             converged: core.converged,
+            resolved: core.resolved,
         };
         let mut jac = [[0.0; INPUTS]; JACOBIAN_ROWS];
         if JAC {
@@ -721,6 +751,16 @@ impl Table {
             linear_strides[k] = st[FORCE + k];
         }
         let n_phi = self.axes.0[PHI].points.len() as isize;
+        // the lowest corner of the point's cell, where its unresolved flag is kept
+        let resolved = self.unresolved.is_empty() || {
+            let cell = cx.lower() * st[XI]
+                + cy.lower() * st[ETA]
+                + k0.unsigned_abs() * st[PHI]
+                + (0..L)
+                    .map(|k| fractions[k].start * linear_strides[k])
+                    .sum::<usize>();
+            self.unresolved.get(cell) == Some(&0)
+        };
         // the linear corners' row offsets from the creepage node and weights (with the Jacobian, also the
         // weights' derivatives)
         // (a value reads only the corners of non-zero weight; the Jacobian needs every corner, whose
@@ -859,7 +899,12 @@ impl Table {
         } else {
             v = cx.value(&c2);
         }
-        Core { v, d, converged }
+        Core {
+            v,
+            d,
+            converged,
+            resolved,
+        }
     }
 }
 
@@ -1017,6 +1062,28 @@ unsafe fn corner_sum_avx2<const PAIR: bool>(
         }
     }
     out
+}
+
+/// Per point of a table of `shape` (C order), 1 where the cell whose lowest corner it is does not resolve
+/// its T_max: the stored values `t` [K] at the cell's corners (two nodes along every axis of more than
+/// one point) spread by more than [`JUMP_SPREAD`]. The largest and smallest value over each cell come
+/// from one pass per axis, each taking the larger (smaller) of a node and its successor.
+fn unresolved_cells(shape: &[usize; DIMS], t: &[f32]) -> Vec<u8> {
+    let (mut hi, mut lo) = (t.to_vec(), t.to_vec());
+    for d in 0..DIMS {
+        let stride: usize = shape[d + 1..].iter().product();
+        // ascending: the successor still holds the previous pass's value when a node reads it
+        for i in 0..t.len() {
+            if (i / stride) % shape[d] + 1 < shape[d] {
+                hi[i] = hi[i].max(hi[i + stride]);
+                lo[i] = lo[i].min(lo[i + stride]);
+            }
+        }
+    }
+    hi.iter()
+        .zip(&lo)
+        .map(|(h, l)| u8::from(f64::from(*h) - f64::from(*l) > JUMP_SPREAD))
+        .collect()
 }
 
 /// The row strides of a table of `shape` in memory order: C order over (ξ̂, η̂, F_N, V, w, a/b, p_ref, φ̂).
@@ -1338,6 +1405,33 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn cells_across_which_t_max_jumps_are_not_resolved() {
+        let params = coarse_params();
+        let smooth = synthetic(&tiny_axes(), &params, &symmetric_saturating);
+        assert!(smooth.unresolved.is_empty());
+        // T_max 400 K higher at the last ξ̂ node (10): the cells between ξ̂ = 1 and 10 hold the jump, for
+        // both signs of ξ (the axis is mirrored); the smooth variation spreads by < 100 K across any cell
+        let jump = |c: &[f64; DIMS]| {
+            let mut o = symmetric_saturating(c);
+            o[3] += if c[XI].abs() > 5.0 { 400.0 } else { 0.0 };
+            o
+        };
+        let t = synthetic(&tiny_axes(), &params, &jump);
+        let mut rng = verify::SplitMix64::new(17);
+        let mut seen = [0; 2];
+        for _ in 0..500 {
+            let c = random_coordinates(&mut rng);
+            let (p, e) = at(&t, &c, Ellipse::HERTZ);
+            let o = t.evaluate(&p, &e).unwrap();
+            assert!(o.in_range);
+            assert_eq!(o.resolved, c[XI].abs() < 1.0, "{c:?}");
+            assert!(smooth.evaluate(&p, &e).unwrap().resolved);
+            seen[usize::from(o.resolved)] += 1;
+        }
+        assert!(seen.iter().all(|n| *n > 20), "{seen:?}");
     }
 
     #[test]

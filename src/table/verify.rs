@@ -189,6 +189,10 @@ pub struct VerifyReport {
     pub skipped_unconverged: usize,
     /// Compared points whose table stencil holds an unconverged table point.
     pub table_unconverged: usize,
+    /// Compared points in cells the table does not resolve ([`TableOutput::resolved`]: T_max jumps across
+    /// them). Mode auto solves them exactly, so the statistics below, those of the outputs mode auto gives,
+    /// count them with error 0 (the table's own values stay in the CSV); the worst point is not one of them.
+    pub unresolved: usize,
     /// |ΔF|/F_N, F = (F_x, F_y) [-].
     pub force: Stats,
     /// |ΔM_z|/(F_N·c) [-].
@@ -355,15 +359,23 @@ pub fn report(table: &Table, compared: &[Option<Compared>]) -> VerifyReport {
     let mut worst: Option<Worst> = None;
     let mut skipped = 0;
     let mut table_unconverged = 0;
+    let mut unresolved = 0;
     for r in compared {
         let Some(c) = r else {
             skipped += 1;
             continue;
         };
+        table_unconverged += usize::from(!c.table.converged);
+        if !c.table.resolved {
+            unresolved += 1;
+            for col in cols.iter_mut() {
+                col.push(0.0);
+            }
+            continue;
+        }
         for (col, v) in cols.iter_mut().zip(&c.errors) {
             col.push(*v);
         }
-        table_unconverged += usize::from(!c.table.converged);
         if worst.is_none_or(|w| c.errors[0] > w.force_error) {
             worst = Some(Worst {
                 point: c.sample.point,
@@ -376,6 +388,7 @@ pub fn report(table: &Table, compared: &[Option<Compared>]) -> VerifyReport {
         compared: cols[0].len(),
         skipped_unconverged: skipped,
         table_unconverged,
+        unresolved,
         force: Stats::of(&cols[0]),
         spin_moment: Stats::of(&cols[1]),
         traction_coefficient: Stats::of(&cols[2]),

@@ -109,6 +109,9 @@ fn warn(evaluator: &Evaluator, e: &Evaluation) {
             Notice::FellBack(Fallback::OutsideRanges) => eprintln!(
                 "warning: the point lies outside the table's ranges; the exact solver evaluates it"
             ),
+            Notice::FellBack(Fallback::Unresolved) => eprintln!(
+                "warning: the point lies in a table cell across which T_max jumps (a wet contact losing its film); the exact solver evaluates it"
+            ),
             Notice::FellBack(Fallback::OtherParameters) => eprintln!(
                 "warning: the table at {} was built for other parameters; the exact solver evaluates the point",
                 evaluator.table_locations()

@@ -221,6 +221,10 @@ impl Warned {
                         Fallback::OutsideRanges => {
                             "an operating point lies outside the lookup table's ranges".into()
                         }
+                        Fallback::Unresolved => "an operating point lies in a cell of the lookup \
+                                                 table across which its maximum temperature jumps \
+                                                 (a hot wet contact losing its film)"
+                            .into(),
                         Fallback::OtherGeometry => format!(
                             "the contact geometry (curvature_longitudinal, curvature_lateral, semi_axis_a, \
                              semi_axis_b) differs from the one the lookup table at {} was built for",
