@@ -559,4 +559,38 @@ mod tests {
             .collect();
         assert!(report(&t, &cooler).meets_temperature_target());
     }
+
+    #[test]
+    fn samples_in_unresolved_cells_count_with_the_exact_outputs() {
+        let t = super::super::synthetic(
+            &super::super::tiny_axes(),
+            &super::super::coarse_params(),
+            &|_| [0.0, 0.0, 0.0, 300.0, 0.0, 0.0],
+        );
+        let samples = sample_points(&t, 100, 3);
+        // errors 1 … 100 (force 1e-4 × that, T_max in K); the largest ten in unresolved cells
+        let compared: Vec<Option<Compared>> = samples
+            .iter()
+            .enumerate()
+            .map(|(k, s)| {
+                let mut o = t.evaluate(&s.point, &s.ellipse).unwrap();
+                o.resolved = k < 90;
+                let e = (k + 1) as f64;
+                Some(Compared {
+                    sample: *s,
+                    table: o,
+                    exact: o,
+                    errors: [1e-4 * e, 0.0, 0.0, e, 0.0, 0.0],
+                })
+            })
+            .collect();
+        let r = report(&t, &compared);
+        assert_eq!((r.compared, r.unresolved), (100, 10));
+        // mode auto solves those ten exactly: error 0; the largest error left is the 90th sample's
+        assert_eq!(r.max_temperature.max, 90.0);
+        assert_eq!(r.max_temperature.p99, 89.0);
+        assert_eq!(r.force.max, 90.0 * 1e-4);
+        assert!((r.max_temperature.mean - 90.0 * 91.0 / 2.0 / 100.0).abs() < 1e-12);
+        assert_eq!(r.worst.unwrap().force_error, 90.0 * 1e-4);
+    }
 }
