@@ -478,29 +478,44 @@ mod tests {
         assert_eq!(similarity_loads(200.0), [250e3, 250e3]);
     }
 
-    #[test]
-    fn cell_errors_hold_the_samples_of_each_cell() {
+    /// A table of constant outputs over [`super::super::tiny_axes`] and `n` of its sample points (seed
+    /// `seed`) compared with known errors: per sample k, `known(k)` gives whether the exact solve
+    /// converged, whether the table resolves the cell, the force error and the T_max error.
+    fn with_known_errors(
+        n: usize,
+        seed: u64,
+        known: impl Fn(usize) -> (bool, bool, f64, f64),
+    ) -> (Table, Vec<Option<Compared>>) {
         let t = super::super::synthetic(
             &super::super::tiny_axes(),
             &super::super::coarse_params(),
             &|_| [0.0, 0.0, 0.0, 300.0, 0.0, 0.0],
         );
-        let samples = sample_points(&t, 300, 5);
-        // distinct known errors per sample; every tenth exact solve "did not converge"
-        let compared: Vec<Option<Compared>> = samples
+        let compared = sample_points(&t, n, seed)
             .iter()
             .enumerate()
             .map(|(k, s)| {
-                let o = t.evaluate(&s.point, &s.ellipse).unwrap();
-                let e = k as f64;
-                (k % 10 != 0).then_some(Compared {
+                let (converged, resolved, force, temperature) = known(k);
+                let mut o = t.evaluate(&s.point, &s.ellipse).unwrap();
+                o.resolved = resolved;
+                converged.then_some(Compared {
                     sample: *s,
                     table: o,
                     exact: o,
-                    errors: [1e-4 * e, 0.0, 0.0, 0.1 * e, 0.0, 0.0],
+                    errors: [force, 0.0, 0.0, temperature, 0.0, 0.0],
                 })
             })
             .collect();
+        (t, compared)
+    }
+
+    #[test]
+    fn cell_errors_hold_the_samples_of_each_cell() {
+        // distinct known errors per sample; every tenth exact solve "did not converge"
+        let (t, compared) = with_known_errors(300, 5, |k| {
+            let e = k as f64;
+            (k % 10 != 0, true, 1e-4 * e, 0.1 * e)
+        });
         let r = report(&t, &compared);
         let kept: Vec<&Compared> = compared.iter().flatten().collect();
         assert_eq!(r.compared, 270);
@@ -562,28 +577,11 @@ mod tests {
 
     #[test]
     fn samples_in_unresolved_cells_count_with_the_exact_outputs() {
-        let t = super::super::synthetic(
-            &super::super::tiny_axes(),
-            &super::super::coarse_params(),
-            &|_| [0.0, 0.0, 0.0, 300.0, 0.0, 0.0],
-        );
-        let samples = sample_points(&t, 100, 3);
         // errors 1 … 100 (force 1e-4 × that, T_max in K); the largest ten in unresolved cells
-        let compared: Vec<Option<Compared>> = samples
-            .iter()
-            .enumerate()
-            .map(|(k, s)| {
-                let mut o = t.evaluate(&s.point, &s.ellipse).unwrap();
-                o.resolved = k < 90;
-                let e = (k + 1) as f64;
-                Some(Compared {
-                    sample: *s,
-                    table: o,
-                    exact: o,
-                    errors: [1e-4 * e, 0.0, 0.0, e, 0.0, 0.0],
-                })
-            })
-            .collect();
+        let (t, compared) = with_known_errors(100, 3, |k| {
+            let e = (k + 1) as f64;
+            (true, k < 90, 1e-4 * e, e)
+        });
         let r = report(&t, &compared);
         assert_eq!((r.compared, r.unresolved), (100, 10));
         // mode auto solves those ten exactly: error 0; the largest error left is the 90th sample's
