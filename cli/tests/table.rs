@@ -454,59 +454,64 @@ fn a_u16_table_holds_the_f32_values_to_half_a_step_in_half_the_bytes() {
     });
     assert!(e.contains("an f32 array"), "{e}");
 
-    // u16z: the same codes compressed, read back to the u16 table's values bit for bit in fewer bytes;
-    // shards merge to the bytes of one build; a stream that holds too few codes is refused
-    let z_dir = tmp("u16-z");
-    build(&params, &axes, &z_dir, &["--storage", "u16z"], "2");
-    let z = TableFiles::read(&z_dir).unwrap();
-    assert_eq!(sidecar(&z_dir)["storage"], "u16z");
-    assert_eq!((&z.outputs, &z.converged), (&b.outputs, &b.converged));
+    // u16z, u16x: the same codes compressed (zlib, xz), read back to the u16 table's values bit for bit in
+    // fewer bytes; shards merge to the bytes of one build; a stream that holds too few codes is refused
     let size = |d: &Path, f: &str| std::fs::metadata(d.join(f)).unwrap().len() as f64;
-    for (rz, ru) in z.sidecar.outputs.iter().zip(&b.sidecar.outputs) {
-        assert_eq!(rz.quantization, ru.quantization);
-        assert_eq!(rz.file, format!("{}.u16z", ru.name));
-        let ratio = size(&z_dir, &rz.file) / size(&u16_dir, &ru.file);
-        assert!(ratio < 0.75, "{}: {ratio}", rz.name);
+    for (storage, stream) in [("u16z", "zlib"), ("u16x", "xz")] {
+        let letter = &storage[3..];
+        let z_dir = tmp(&format!("u16-{storage}"));
+        build(&params, &axes, &z_dir, &["--storage", storage], "2");
+        let z = TableFiles::read(&z_dir).unwrap();
+        assert_eq!(sidecar(&z_dir)["storage"], storage);
+        assert_eq!((&z.outputs, &z.converged), (&b.outputs, &b.converged));
+        for (rz, ru) in z.sidecar.outputs.iter().zip(&b.sidecar.outputs) {
+            assert_eq!(rz.quantization, ru.quantization);
+            assert_eq!(rz.file, format!("{}.u16{letter}", ru.name));
+            let ratio = size(&z_dir, &rz.file) / size(&u16_dir, &ru.file);
+            assert!(ratio < 0.75, "{storage} {}: {ratio}", rz.name);
+        }
+        assert_eq!(z.sidecar.converged.file, format!("converged.u8{letter}"));
+        Table::load(&z_dir).unwrap().check_probes().unwrap();
+        let z_shards: Vec<PathBuf> = (1..=2)
+            .map(|k| tmp(&format!("u16-{storage}shard{k}")))
+            .collect();
+        for (k, d) in z_shards.iter().enumerate() {
+            let shard = format!("{}/2", k + 1);
+            build(
+                &params,
+                &axes,
+                d,
+                &["--storage", storage, "--shard", &shard],
+                "2",
+            );
+        }
+        let z_merged = tmp(&format!("u16-{storage}merged"));
+        ok(&wheelrail(
+            &[
+                "table",
+                "merge",
+                s(&z_merged),
+                s(&z_shards[0]),
+                s(&z_shards[1]),
+            ],
+            None,
+        ));
+        assert_eq!(array_files(&z_merged), array_files(&z_dir));
+        let cut = tmp(&format!("u16-{storage}cut"));
+        std::fs::create_dir_all(&cut).unwrap();
+        for (name, bytes) in array_files(&z_dir) {
+            std::fs::write(cut.join(name), bytes).unwrap();
+        }
+        let mut v = sidecar(&z_dir);
+        let file = z.sidecar.outputs[1].file.clone();
+        let bytes = std::fs::read(z_dir.join(&file)).unwrap();
+        let short = &bytes[..bytes.len() / 2];
+        std::fs::write(cut.join(&file), short).unwrap();
+        v["outputs"][1]["sha256"] = wheelrail::table::file::sha256_hex(short).into();
+        std::fs::write(cut.join("table.json"), v.to_string()).unwrap();
+        let e = Table::load(&cut).unwrap_err().to_string();
+        assert!(e.contains(&file) && e.contains(stream), "{e}");
     }
-    assert_eq!(z.sidecar.converged.file, "converged.u8z");
-    Table::load(&z_dir).unwrap().check_probes().unwrap();
-    let z_shards: Vec<PathBuf> = (1..=2).map(|k| tmp(&format!("u16-zshard{k}"))).collect();
-    for (k, d) in z_shards.iter().enumerate() {
-        let shard = format!("{}/2", k + 1);
-        build(
-            &params,
-            &axes,
-            d,
-            &["--storage", "u16z", "--shard", &shard],
-            "2",
-        );
-    }
-    let z_merged = tmp("u16-zmerged");
-    ok(&wheelrail(
-        &[
-            "table",
-            "merge",
-            s(&z_merged),
-            s(&z_shards[0]),
-            s(&z_shards[1]),
-        ],
-        None,
-    ));
-    assert_eq!(array_files(&z_merged), array_files(&z_dir));
-    let cut = tmp("u16-zcut");
-    std::fs::create_dir_all(&cut).unwrap();
-    for (name, bytes) in array_files(&z_dir) {
-        std::fs::write(cut.join(name), bytes).unwrap();
-    }
-    let mut v = sidecar(&z_dir);
-    let file = z.sidecar.outputs[1].file.clone();
-    let bytes = std::fs::read(z_dir.join(&file)).unwrap();
-    let short = &bytes[..bytes.len() / 2];
-    std::fs::write(cut.join(&file), short).unwrap();
-    v["outputs"][1]["sha256"] = wheelrail::table::file::sha256_hex(short).into();
-    std::fs::write(cut.join("table.json"), v.to_string()).unwrap();
-    let e = Table::load(&cut).unwrap_err().to_string();
-    assert!(e.contains(&file) && e.contains("zlib"), "{e}");
     cleanup("u16-");
 }
 

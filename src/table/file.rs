@@ -9,7 +9,8 @@
 //! lies within step/2 ≈ range/131 070 of the computed one (F/F_N ≈ 1e-5, T_max ≈ 0.01 K). Interpolation
 //! then runs on those values as on f32 ones: the outputs stay smooth in the inputs (no jitter). Storage
 //! `u16z` holds the same codes compressed ([`compress_codes`]: differences to the neighbour along φ̂ and
-//! along V, byte planes, zlib), the same values in about a third of the bytes of `u16`. Shards
+//! along V, byte planes, zlib), the same values in about a third of the bytes of `u16`; `u16x` the same
+//! prediction compressed by xz (LZMA2), about 40 % fewer bytes again. Shards
 //! always store f32 and record the storage of the table they merge into. Array bytes depend
 //! only on the parameters and the axes, never on the thread count or the date: those live only in the
 //! sidecar's `build` record. Reading verifies everything and names what does not match.
@@ -37,8 +38,6 @@ pub const FORMAT_VERSION: u32 = 2;
 pub const SIDECAR: &str = "table.json";
 /// File of the per-point converged flags.
 pub const CONVERGED_FILE: &str = "converged.npy";
-/// File of the per-point converged flags of a compressed ([`Storage::U16z`]) table: zlib of the flags.
-pub const CONVERGED_COMPRESSED: &str = "converged.u8z";
 /// Version of the model (the crate version) recorded in and required of every table.
 pub const MODEL_VERSION: &str = env!("CARGO_PKG_VERSION");
 
@@ -126,9 +125,94 @@ pub enum Storage {
     F32,
     /// 16-bit codes with a per-array offset and step ([`Quantization`]; 2 bytes per value).
     U16,
-    /// The codes of [`Storage::U16`], predicted and compressed ([`compress_codes`], files `NAME.u16z`,
-    /// the converged flags `converged.u8z`): the same values in about 0.7 bytes per value.
+    /// The codes of [`Storage::U16`], predicted and compressed by zlib ([`compress_codes`], files
+    /// `NAME.u16z`, the converged flags `converged.u8z`): the same values in about 0.6 bytes per value.
     U16z,
+    /// The predicted codes of [`Storage::U16z`] compressed by xz instead of zlib (files `NAME.u16x`, the
+    /// converged flags `converged.u8x`): about 0.35 bytes per value, slower to write and to read.
+    U16x,
+}
+
+/// The general-purpose compressor of a compressed storage ([`Storage::codec`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Codec {
+    /// One zlib stream (RFC 1950), best compression (flate2).
+    Zlib,
+    /// One xz stream (LZMA2, preset 9; lzma-rust2, pure Rust), as Python's `lzma` reads it.
+    Xz,
+}
+
+impl Codec {
+    /// The last letter of the file extensions (`NAME.u16z`, `converged.u8z`).
+    fn letter(self) -> char {
+        match self {
+            Codec::Zlib => 'z',
+            Codec::Xz => 'x',
+        }
+    }
+
+    /// The name of the stream format, for messages.
+    fn name(self) -> &'static str {
+        match self {
+            Codec::Zlib => "zlib",
+            Codec::Xz => "xz",
+        }
+    }
+
+    /// The file of an output array `name` of a table stored with this codec.
+    pub fn output_file(self, name: &str) -> String {
+        format!("{name}.u16{}", self.letter())
+    }
+
+    /// The file of the per-point converged flags (the flags compressed as they are).
+    pub fn converged_file(self) -> String {
+        format!("converged.u8{}", self.letter())
+    }
+
+    /// `bytes` as one stream of this codec.
+    pub fn compress(self, bytes: &[u8]) -> Vec<u8> {
+        use std::io::Write;
+        let memory = "writing to memory cannot fail";
+        match self {
+            Codec::Zlib => {
+                let mut z =
+                    flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::best());
+                z.write_all(bytes).expect(memory);
+                z.finish().expect(memory)
+            }
+            Codec::Xz => {
+                let options = lzma_rust2::XzOptions::with_preset(9);
+                let mut x = lzma_rust2::XzWriter::new(Vec::new(), options).expect(memory);
+                x.write_all(bytes).expect(memory);
+                x.finish().expect(memory)
+            }
+        }
+    }
+
+    /// The `n` bytes of one stream of this codec; an error if it is not one or holds any other number of
+    /// bytes (read no further than n + 1, so a corrupt stream cannot claim more memory).
+    pub fn decompress(self, bytes: &[u8], n: usize) -> std::result::Result<Vec<u8>, String> {
+        use std::io::Read;
+        let mut out = Vec::with_capacity(n);
+        let limit = n as u64 + 1;
+        match self {
+            Codec::Zlib => flate2::read::ZlibDecoder::new(bytes)
+                .take(limit)
+                .read_to_end(&mut out),
+            Codec::Xz => lzma_rust2::XzReader::new(bytes, false)
+                .take(limit)
+                .read_to_end(&mut out),
+        }
+        .map_err(|e| format!("not a valid {} stream: {e}", self.name()))?;
+        if out.len() != n {
+            return Err(format!(
+                "the compressed array holds {}{} bytes, expected {n}",
+                out.len().min(n),
+                if out.len() > n { " or more" } else { "" }
+            ));
+        }
+        Ok(out)
+    }
 }
 
 impl Storage {
@@ -136,6 +220,15 @@ impl Storage {
     /// their sidecars byte for byte).
     pub fn is_f32(&self) -> bool {
         *self == Storage::F32
+    }
+
+    /// The compressor of a compressed storage (u16z, u16x).
+    pub fn codec(self) -> Option<Codec> {
+        match self {
+            Storage::F32 | Storage::U16 => None,
+            Storage::U16z => Some(Codec::Zlib),
+            Storage::U16x => Some(Codec::Xz),
+        }
     }
 }
 
@@ -145,6 +238,7 @@ impl std::fmt::Display for Storage {
             Storage::F32 => "f32",
             Storage::U16 => "u16",
             Storage::U16z => "u16z",
+            Storage::U16x => "u16x",
         })
     }
 }
@@ -300,15 +394,15 @@ pub struct Sidecar {
 }
 
 impl Sidecar {
-    /// Whether the output arrays are stored as u16 codes: a full table whose storage is u16 or u16z (a
+    /// Whether the output arrays are stored as u16 codes: a full table whose storage is u16, u16z or u16x (a
     /// shard stores f32 whatever storage it records).
     pub fn quantised(&self) -> bool {
         self.storage != Storage::F32 && self.shard.is_none()
     }
 
-    /// Whether the arrays are compressed: a full table whose storage is u16z.
-    pub fn compressed(&self) -> bool {
-        self.storage == Storage::U16z && self.shard.is_none()
+    /// The compressor of the arrays: that of a full table whose storage is compressed (u16z, u16x).
+    pub fn compressed(&self) -> Option<Codec> {
+        self.storage.codec().filter(|_| self.shard.is_none())
     }
 }
 
@@ -563,7 +657,10 @@ impl TableFiles {
         let compressed = self.sidecar.compressed();
         let mut records = Vec::with_capacity(OUTPUTS);
         for (info, data) in OUTPUT_INFO.iter().zip(self.outputs.iter_mut()) {
-            let file = format!("{}.{}", info.name, if compressed { "u16z" } else { "npy" });
+            let file = match compressed {
+                Some(c) => c.output_file(info.name),
+                None => format!("{}.npy", info.name),
+            };
             let path = dir.join(&file);
             let (bytes, quantization) = if quantised {
                 let (q, codes) = Quantization::of(data).map_err(|e| corrupt(&path, e))?;
@@ -571,10 +668,9 @@ impl TableFiles {
                 for (v, c) in data.iter_mut().zip(&codes) {
                     *v = q.value(*c);
                 }
-                let bytes = if compressed {
-                    compress_codes(&codes, &shape)
-                } else {
-                    npy_bytes(&codes, &shape)
+                let bytes = match compressed {
+                    Some(c) => compress_codes(&codes, &shape, c),
+                    None => npy_bytes(&codes, &shape),
                 };
                 (bytes, Some(q))
             } else {
@@ -590,12 +686,11 @@ impl TableFiles {
                 quantization,
             });
         }
-        let (converged_file, bytes) = if compressed {
-            (CONVERGED_COMPRESSED, zlib(&self.converged))
-        } else {
-            (CONVERGED_FILE, npy_bytes(&self.converged, &shape))
+        let (converged_file, bytes) = match compressed {
+            Some(c) => (c.converged_file(), c.compress(&self.converged)),
+            None => (CONVERGED_FILE.into(), npy_bytes(&self.converged, &shape)),
         };
-        let path = dir.join(converged_file);
+        let path = dir.join(&converged_file);
         std::fs::write(&path, &bytes).map_err(|e| io(&path, e))?;
         self.sidecar.outputs = records;
         self.sidecar.converged = ArrayRecord {
@@ -604,7 +699,7 @@ impl TableFiles {
             description:
                 "1: the exact solution at this point converged; 0: it did not (see unconverged)"
                     .into(),
-            file: converged_file.into(),
+            file: converged_file,
             sha256: sha256_hex(&bytes),
             quantization: None,
         };
@@ -723,13 +818,14 @@ impl TableFiles {
                 if !q.valid() {
                     return Err(corrupt(&path, format!("invalid quantisation {q:?}")));
                 }
-                let codes = if compressed {
-                    decompress_codes(&read_bytes(dir, rec)?, &shape)
-                        .map_err(|e| corrupt(&path, e))?
-                } else {
-                    read_array::<u16>(dir, rec, &shape)?
-                        .into_raw_vec_and_offset()
-                        .0
+                let codes = match compressed {
+                    Some(c) => decompress_codes(&read_bytes(dir, rec)?, &shape, c)
+                        .map_err(|e| corrupt(&path, e))?,
+                    None => {
+                        read_array::<u16>(dir, rec, &shape)?
+                            .into_raw_vec_and_offset()
+                            .0
+                    }
                 };
                 codes.iter().map(|c| q.value(*c)).collect()
             } else {
@@ -746,14 +842,18 @@ impl TableFiles {
             // format version 1 has no frictional power: NaN, which the table reports as absent
             outputs.push(vec![f32::NAN; outputs[0].len()]);
         }
-        let converged = if compressed {
-            let n = shape.iter().product();
-            inflate(&read_bytes(dir, &sidecar.converged)?, n)
-                .map_err(|e| corrupt(&dir.join(&sidecar.converged.file), e))?
-        } else {
-            read_array::<u8>(dir, &sidecar.converged, &shape)?
-                .into_raw_vec_and_offset()
-                .0
+        let converged = match compressed {
+            Some(c) => c
+                .decompress(
+                    &read_bytes(dir, &sidecar.converged)?,
+                    shape.iter().product(),
+                )
+                .map_err(|e| corrupt(&dir.join(&sidecar.converged.file), e))?,
+            None => {
+                read_array::<u8>(dir, &sidecar.converged, &shape)?
+                    .into_raw_vec_and_offset()
+                    .0
+            }
         };
         Ok(TableFiles {
             sidecar,
@@ -851,10 +951,10 @@ fn stride_of(shape: &[usize], d: usize) -> (usize, usize) {
 /// The bytes of a [`Storage::U16z`] array: the codes (C order over `shape`, the full table's eight
 /// dimensions) replaced by their differences to the previous node along φ̂, then along V (wrapping
 /// modulo 2¹⁶; the first node of an axis keeps its code), split into the n low bytes followed by the n
-/// high bytes (the high bytes of small differences are 0x00 or 0xFF), compressed as one zlib stream
-/// (RFC 1950, best compression). NumPy decodes it with `zlib.decompress`, the two byte planes,
+/// high bytes (the high bytes of small differences are 0x00 or 0xFF), compressed as one stream of `codec`.
+/// NumPy decodes it with `zlib.decompress` (`lzma.decompress` for xz), the two byte planes,
 /// `np.cumsum(…, axis, dtype=np.uint16)` along V and φ̂ (axes 4 and 2), then offset + step·code.
-pub fn compress_codes(codes: &[u16], shape: &[usize]) -> Vec<u8> {
+pub fn compress_codes(codes: &[u16], shape: &[usize], codec: Codec) -> Vec<u8> {
     let mut r = codes.to_vec();
     for d in PREDICTED {
         let (stride, len) = stride_of(shape, d);
@@ -870,14 +970,18 @@ pub fn compress_codes(codes: &[u16], shape: &[usize]) -> Vec<u8> {
         .map(|c| c.to_le_bytes()[0])
         .chain(r.iter().map(|c| c.to_le_bytes()[1]))
         .collect();
-    zlib(&planes)
+    codec.compress(&planes)
 }
 
-/// The codes of a [`compress_codes`] array of `shape`; an error for a stream that is not zlib or does not
-/// hold exactly the array.
-pub fn decompress_codes(bytes: &[u8], shape: &[usize]) -> std::result::Result<Vec<u16>, String> {
+/// The codes of a [`compress_codes`] array of `shape`; an error for a stream that is not one of `codec` or
+/// does not hold exactly the array.
+pub fn decompress_codes(
+    bytes: &[u8],
+    shape: &[usize],
+    codec: Codec,
+) -> std::result::Result<Vec<u16>, String> {
     let n: usize = shape.iter().product();
-    let planes = inflate(bytes, 2 * n)?;
+    let planes = codec.decompress(bytes, 2 * n)?;
     let mut c: Vec<u16> = (0..n)
         .map(|i| u16::from_le_bytes([planes[i], planes[n + i]]))
         .collect();
@@ -890,33 +994,6 @@ pub fn decompress_codes(bytes: &[u8], shape: &[usize]) -> std::result::Result<Ve
         }
     }
     Ok(c)
-}
-
-/// `bytes` as one zlib stream at the best compression.
-fn zlib(bytes: &[u8]) -> Vec<u8> {
-    use std::io::Write;
-    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::best());
-    z.write_all(bytes).expect("writing to memory cannot fail");
-    z.finish().expect("writing to memory cannot fail")
-}
-
-/// The `n` bytes of a zlib stream; an error if it is not one or holds any other number of bytes (read no
-/// further than n + 1, so a corrupt stream cannot claim more memory).
-fn inflate(bytes: &[u8], n: usize) -> std::result::Result<Vec<u8>, String> {
-    use std::io::Read;
-    let mut out = Vec::with_capacity(n);
-    flate2::read::ZlibDecoder::new(bytes)
-        .take(n as u64 + 1)
-        .read_to_end(&mut out)
-        .map_err(|e| format!("not a valid zlib stream: {e}"))?;
-    if out.len() != n {
-        return Err(format!(
-            "the compressed array holds {}{} bytes, expected {n}",
-            out.len().min(n),
-            if out.len() > n { " or more" } else { "" }
-        ));
-    }
-    Ok(out)
 }
 
 #[cfg(test)]
@@ -1020,26 +1097,50 @@ mod tests {
                 _ => (30_000.0 + 20_000.0 * (i as f64 * 0.01).sin() + 100.0 * rng.uniform()) as u16,
             })
             .collect();
-        let bytes = compress_codes(&codes, &shape);
-        assert_eq!(decompress_codes(&bytes, &shape).unwrap(), codes);
-        // the prediction is what makes smooth codes small: a ramp along φ̂ and V compresses to a few bytes
         let ramp: Vec<u16> = (0..n)
             .map(|i| {
                 let (phi, v) = ((i / 24) % 5, (i / 6) % 4);
                 (1000 * phi + 300 * v + i / 120) as u16
             })
             .collect();
-        let small = compress_codes(&ramp, &shape);
-        assert_eq!(decompress_codes(&small, &shape).unwrap(), ramp);
-        assert!(small.len() < n / 4, "{} bytes for {n} codes", small.len());
-        // another shape, a cut stream, a longer one, not zlib at all
-        let e = decompress_codes(&bytes, &[3, 2, 5, 1, 4, 3, 1, 3]).unwrap_err();
-        assert!(e.contains("expected"), "{e}");
-        let e = decompress_codes(&bytes, &[3, 2, 5, 1, 4, 3, 1, 1]).unwrap_err();
-        assert!(e.contains("or more"), "{e}");
-        assert!(decompress_codes(&bytes[..bytes.len() / 2], &shape).is_err());
-        let e = decompress_codes(b"not a zlib stream", &shape).unwrap_err();
-        assert!(e.contains("zlib"), "{e}");
+        for codec in [Codec::Zlib, Codec::Xz] {
+            let bytes = compress_codes(&codes, &shape, codec);
+            assert_eq!(decompress_codes(&bytes, &shape, codec).unwrap(), codes);
+            // the prediction is what makes smooth codes small: a ramp along φ̂ and V compresses to a few
+            // bytes (xz's container adds some 60)
+            let small = compress_codes(&ramp, &shape, codec);
+            assert_eq!(decompress_codes(&small, &shape, codec).unwrap(), ramp);
+            assert!(
+                small.len() < n / 4 + 60,
+                "{codec:?}: {} bytes for {n} codes",
+                small.len()
+            );
+            // another shape, a cut stream, a longer one, the other codec's stream, not a stream at all
+            let e = decompress_codes(&bytes, &[3, 2, 5, 1, 4, 3, 1, 3], codec).unwrap_err();
+            assert!(e.contains("expected"), "{e}");
+            let e = decompress_codes(&bytes, &[3, 2, 5, 1, 4, 3, 1, 1], codec).unwrap_err();
+            assert!(e.contains("or more"), "{e}");
+            assert!(decompress_codes(&bytes[..bytes.len() / 2], &shape, codec).is_err());
+            let other = if codec == Codec::Zlib {
+                Codec::Xz
+            } else {
+                Codec::Zlib
+            };
+            let e = decompress_codes(&bytes, &shape, other).unwrap_err();
+            assert!(e.contains(other.name()), "{e}");
+            let e = decompress_codes(b"not a compressed stream", &shape, codec).unwrap_err();
+            assert!(e.contains(codec.name()), "{e}");
+        }
+        // xz compresses the smooth part of a table's codes further than zlib
+        let smooth: Vec<u16> = (0..4096 * 6)
+            .map(|i| (30_000.0 + 20_000.0 * (i as f64 * 0.001).sin() + 30.0 * rng.uniform()) as u16)
+            .collect();
+        let long = [4096, 1, 6, 1, 1, 1, 1, 1];
+        let (z, x) = (
+            compress_codes(&smooth, &long, Codec::Zlib),
+            compress_codes(&smooth, &long, Codec::Xz),
+        );
+        assert!(x.len() < z.len(), "xz {} bytes, zlib {}", x.len(), z.len());
     }
 
     #[test]

@@ -60,7 +60,8 @@ struct BuildArgs {
     #[arg(long, value_name = "K/N")]
     shard: Option<String>,
     /// How the table stores its outputs: f32, u16 (16-bit codes, half the bytes: rounding about 1e-5 of
-    /// F/F_N and 0.01 K of T_max), or u16z (the same codes compressed: about a sixth of the f32 bytes). A
+    /// F/F_N and 0.01 K of T_max), u16z (the same codes compressed: about a sixth of the f32 bytes) or u16x
+    /// (compressed by xz: about a tenth of the f32 bytes). A
     /// shard stores f32 and records it for `wheelrail table merge`.
     #[arg(long, value_enum, default_value = "f32")]
     storage: StorageArg,
