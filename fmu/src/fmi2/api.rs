@@ -340,11 +340,7 @@ pub unsafe fn get<M: Model, T>(
         call::<M>(c, function, state::GET, |inst| {
             let vrs = slice(vr, n, "vr[]")?;
             let dst = slice_mut(value, n, "value[]")?;
-            let (values, status) = inst.get(vrs, ty)?;
-            for (d, v) in dst.iter_mut().zip(&values) {
-                *d = convert(v);
-            }
-            Ok(status)
+            inst.get(vrs, ty, |k, v| dst[k] = convert(v))
         })
     }
 }

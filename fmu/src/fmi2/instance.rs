@@ -114,16 +114,21 @@ impl<M: Model> Instance<M> {
         Ok(status.max(accepted))
     }
 
-    /// Reads values of one type. In initialization mode, at communication points and in the Model Exchange
-    /// event and continuous-time modes, stale outputs are recomputed first, so that outputs always belong
-    /// to the current inputs.
-    pub fn get(&mut self, vrs: &[u32], ty: Type) -> Result<(Vec<Value>, Status), Failure> {
-        let idx = vrs
-            .iter()
-            .map(|vr| self.index(*vr, ty))
-            .collect::<Result<Vec<_>, _>>()?;
-        let table = self.values.table();
-        let wants_output = idx.iter().any(|i| table[*i].causality == Causality::Output);
+    /// Reads values of one type, handing the k-th to `out(k, value)`. In initialization mode, at
+    /// communication points and in the Model Exchange event and continuous-time modes, stale outputs are
+    /// recomputed first, so that outputs always belong to the current inputs. Every value reference is
+    /// checked before any value is handed out; nothing is allocated (a master calls this every step).
+    pub fn get(
+        &mut self,
+        vrs: &[u32],
+        ty: Type,
+        mut out: impl FnMut(usize, &Value),
+    ) -> Result<Status, Failure> {
+        let mut wants_output = false;
+        for vr in vrs {
+            let i = self.index(*vr, ty)?;
+            wants_output |= self.values.table()[i].causality == Causality::Output;
+        }
         let status = if wants_output
             && matches!(
                 self.state,
@@ -136,10 +141,10 @@ impl<M: Model> Instance<M> {
         } else {
             Status::Ok
         };
-        Ok((
-            idx.iter().map(|i| self.values.list()[*i].clone()).collect(),
-            status,
-        ))
+        for (k, vr) in vrs.iter().enumerate() {
+            out(k, &self.values.list()[self.index(*vr, ty)?]);
+        }
+        Ok(status)
     }
 
     /// Reads Strings; the returned pointers stay valid until the next `fmi2GetString` of this instance.
@@ -147,14 +152,12 @@ impl<M: Model> Instance<M> {
         &mut self,
         vrs: &[u32],
     ) -> Result<(Vec<*const std::ffi::c_char>, Status), Failure> {
-        let (values, status) = self.get(vrs, Type::String)?;
-        self.strings = values
-            .iter()
-            .map(|v| match v {
-                Value::String(s) => super::logging::to_c_string(s),
-                _ => unreachable!("get returned values of the requested type"),
-            })
-            .collect();
+        let mut strings = Vec::with_capacity(vrs.len());
+        let status = self.get(vrs, Type::String, |_, v| match v {
+            Value::String(s) => strings.push(super::logging::to_c_string(s)),
+            _ => unreachable!("get hands out values of the requested type"),
+        })?;
+        self.strings = strings;
         Ok((self.strings.iter().map(|s| s.as_ptr()).collect(), status))
     }
 
