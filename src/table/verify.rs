@@ -207,7 +207,8 @@ pub struct VerifyReport {
     pub frictional_power: Option<Stats>,
     /// Where the force error is largest.
     pub worst: Option<Worst>,
-    /// The force and T_max errors per cell of every axis of more than one point (where to add nodes).
+    /// The force and T_max errors per cell of every axis of more than one point (where to add nodes), as
+    /// the statistics above count them (0 in unresolved cells).
     pub cells: Vec<CellErrors>,
 }
 
@@ -255,7 +256,12 @@ fn cell_errors(table: &Table, compared: &[&Compared]) -> Vec<CellErrors> {
             }
         }
         for (w, inside) in points.windows(2).zip(inside) {
-            let column = |k: usize| inside.iter().map(|c| c.errors[k]).collect::<Vec<f64>>();
+            let column = |k: usize| {
+                inside
+                    .iter()
+                    .map(|c| c.auto_errors()[k])
+                    .collect::<Vec<f64>>()
+            };
             cells.push(CellErrors {
                 axis: DIMENSIONS[d].name,
                 lower: w[0],
@@ -297,6 +303,18 @@ pub struct Compared {
     /// |ΔF|/F_N, |ΔM_z|/(F_N·c), |Δf|, |ΔT_max| [K], |Δ fluid load fraction|, |ΔP_f|/(F_N·V) (0 without
     /// a stored frictional power).
     pub errors: [f64; 6],
+}
+
+impl Compared {
+    /// The errors of the outputs mode auto gives: [`Compared::errors`], or 0 in a cell the table does not
+    /// resolve (mode auto solves such points exactly).
+    pub fn auto_errors(&self) -> [f64; 6] {
+        if self.table.resolved {
+            self.errors
+        } else {
+            [0.0; 6]
+        }
+    }
 }
 
 /// Names of [`Compared::errors`] (the CSV columns of `table verify --csv`).
@@ -366,15 +384,12 @@ pub fn report(table: &Table, compared: &[Option<Compared>]) -> VerifyReport {
             continue;
         };
         table_unconverged += usize::from(!c.table.converged);
+        for (col, v) in cols.iter_mut().zip(c.auto_errors()) {
+            col.push(v);
+        }
         if !c.table.resolved {
             unresolved += 1;
-            for col in cols.iter_mut() {
-                col.push(0.0);
-            }
             continue;
-        }
-        for (col, v) in cols.iter_mut().zip(&c.errors) {
-            col.push(*v);
         }
         if worst.is_none_or(|w| c.errors[0] > w.force_error) {
             worst = Some(Worst {
@@ -590,5 +605,13 @@ mod tests {
         assert_eq!(r.force.max, 90.0 * 1e-4);
         assert!((r.max_temperature.mean - 90.0 * 91.0 / 2.0 / 100.0).abs() < 1e-12);
         assert_eq!(r.worst.unwrap().force_error, 90.0 * 1e-4);
+        // the cells count them alike: no cell holds an error beyond the statistics' largest
+        assert!(!r.cells.is_empty());
+        for c in &r.cells {
+            assert!(
+                c.force.max <= r.force.max && c.max_temperature.max <= 90.0,
+                "{c:?}"
+            );
+        }
     }
 }
