@@ -410,3 +410,69 @@ fn a_point_whose_film_has_no_solution_is_reported_unconverged() {
     .unwrap();
     assert!(converged.report.converged, "{:?}", converged.report);
 }
+
+/// `max_dry_area_fraction` is GW's metallic area ratio at the dry separation, largest over the contact:
+/// dry, the separation is the dry one, so it is the largest A_m/A_n of the fields; wet, it marks the onset
+/// of the walls (docs/model.md §8.5). Below the onset every cell takes in the film carried to it and none
+/// runs dry; past it (A_m/A_n(d_dry) ≥ 1 at the centre) the covered cells and the cells downstream of them
+/// hold no fluid, and the friction rises towards the dry value over a few per cent of p0 — the steep
+/// transition the table marks unresolved. Default contact shape (a/b 0.72) at 100 kN, V = 11 m/s, ξ = 0.9 %,
+/// w = 0.0085, 20 × 20 cells.
+#[test]
+fn the_walls_begin_where_the_metal_covers_the_centre_at_the_dry_separation() {
+    use wheelrail::fluid::takes_in_all;
+    let at = |p0: f64, wetness: f64| {
+        let mut p = small();
+        let ab = 3.0 * 100e3 / (2.0 * std::f64::consts::PI * p0);
+        let ratio = 0.7247796636776956;
+        p.geometry.semi_axes = Some([(ab * ratio).sqrt(), (ab / ratio).sqrt()]);
+        solved(&p, &wet(-0.009, 11.0, wetness))
+    };
+    // dry: the largest A_m/A_n of the fields, rising with p0 through 1
+    let mut last = 0.0;
+    for p0 in [1.0e9, 1.4e9, 1.6e9] {
+        let s = at(p0, 0.0);
+        let m = s.global.max_dry_area_fraction.unwrap();
+        let f = s.fields.unwrap();
+        assert_eq!(m, f.area_fraction.iter().cloned().fold(0.0, f64::max));
+        assert!(m > last, "{p0}: {m} after {last}");
+        last = m;
+    }
+    assert!(last > 1.0, "{last}");
+    // wet: find the onset by bisection on p0 between a point that takes in all and one that does not
+    let onset = |p0: f64| !takes_in_all(at(p0, 0.0085).global.max_dry_area_fraction.unwrap());
+    let (mut lo, mut hi) = (1.2e9, 1.8e9);
+    assert!(!onset(lo) && onset(hi));
+    while hi - lo > 2e6 {
+        let mid = 0.5 * (lo + hi);
+        if onset(mid) { hi = mid } else { lo = mid }
+    }
+    let (below, above) = (at(lo, 0.0085), at(hi + 0.02 * hi, 0.0085));
+    let dry_cells = |s: &Solution| {
+        let f = s.fields.as_ref().unwrap();
+        (0..f.grid.len())
+            .filter(|k| f.regime[*k] == Regime::Dry)
+            .count()
+    };
+    assert_eq!(dry_cells(&below), 0);
+    assert!(dry_cells(&above) > 0);
+    // where the metal covers a cell (A_m/A_n(d_dry) ≥ 1: d = d_dry, so A_m/A_n ≥ 1 in the fields) it holds
+    // no fluid
+    let f = above.fields.as_ref().unwrap();
+    let covered: Vec<usize> = (0..f.grid.len())
+        .filter(|k| f.area_fraction[*k] >= 1.0)
+        .collect();
+    assert!(!covered.is_empty());
+    assert!(covered.iter().all(|k| f.fluid_height[*k] == 0.0));
+    // 2 % of p0 past the onset the friction has risen by more than the whole variation over the 2 % below
+    // it: the steep transition
+    let before = at(lo / 1.02, 0.0085).global.traction_coefficient;
+    let (f_lo, f_hi) = (
+        below.global.traction_coefficient,
+        above.global.traction_coefficient,
+    );
+    assert!(
+        f_hi - f_lo > 5.0 * (f_lo - before).abs() && f_hi - f_lo > 0.005,
+        "{before} {f_lo} {f_hi}"
+    );
+}

@@ -389,6 +389,7 @@ fn quantities_a_law_does_not_model_are_absent() {
             g.fluid_mass_balance_error,
             g.fluid_rejected_fraction,
             g.min_separation,
+            g.max_dry_area_fraction,
         ]
     };
     assert!(fluid(&t).iter().all(Option::is_some));

@@ -298,6 +298,7 @@ fn point_json_says_what_limited_an_unconverged_solve_and_null_for_what_a_law_doe
         "boundary_lubrication_area_fraction",
         "fluid_mass_balance_error",
         "fluid_rejected_fraction",
+        "max_dry_area_fraction",
     ];
     let v = json(&["--creepage-x", "0.01", "--friction-law", "polach"]);
     for k in absent

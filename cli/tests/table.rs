@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use wheelrail::table::{Table, TableFiles};
+use wheelrail::table::{FilmIntake, Table, TableFiles};
 use wheelrail::{OperatingPoint, Params, solve};
 
 fn wheelrail(args: &[&str], threads: Option<&str>) -> Output {
@@ -51,10 +51,10 @@ fn s(p: &Path) -> &str {
 /// A coarse grid keeps the exact solves cheap; every other parameter is the default.
 const SMALL_GRID: &str = "[grid]\nnx = 8\nny = 8\n";
 
-/// Small axes around the Table 1 point and the default contact (a/b = 0.558, p_ref = 0.771 GPa), both dry
-/// and wet: |ξ| ≤ 0.8 %, |η| ≤ 0.3 %, |φ| ≤ 0.2 /m (normalised creepages: k_x ≈ 190, k_y ≈ 170, k_φ ≈ 0.4 m
-/// for the default contact).
-const SMALL_AXES: &str = r#"
+/// The creepage axes of [`SMALL_AXES`] and [`ONSET_AXES`].
+macro_rules! small_creepages {
+    () => {
+        r#"
 [creepage_x]
 points = [0.0, 0.2, 0.6, 1.8]
 mirrored = true
@@ -65,7 +65,16 @@ raw_limit = 0.003
 [spin]
 points = [-0.1, -0.02, 0.02, 0.1]
 raw_limit = 0.2
-[normal_force]
+"#
+    };
+}
+
+/// Small axes around the Table 1 point and the default contact (a/b = 0.558, p_ref = 0.771 GPa), both dry
+/// and wet: |ξ| ≤ 0.8 %, |η| ≤ 0.3 %, |φ| ≤ 0.2 /m (normalised creepages: k_x ≈ 190, k_y ≈ 170, k_φ ≈ 0.4 m
+/// for the default contact).
+const SMALL_AXES: &str = concat!(
+    small_creepages!(),
+    r#"[normal_force]
 points = [80e3, 120e3]
 [speed]
 points = [20.0, 40.0]
@@ -75,7 +84,8 @@ points = [0.0, 0.3]
 points = [0.5, 0.6]
 [reference_pressure]
 points = [0.7e9, 0.85e9]
-"#;
+"#
+);
 
 /// Axes that resolve the wet creep curves: they saturate near 0.05 % creepage (ξ̂ ≈ 0.1, the wet friction;
 /// spin: c·φ with c ≈ 8 mm), so the points are dense there. Wet only: friction falls from dry to boundary
@@ -248,7 +258,8 @@ fn builds_are_identical_whatever_the_thread_count_and_shards_merge_to_the_same_a
     build(&params, &axes, &one, &[], "1");
     build(&params, &axes, &two, &[], "2");
     let arrays = array_files(&one);
-    assert_eq!(arrays.len(), 7);
+    // six outputs, the converged flags, the film-intake codes
+    assert_eq!(arrays.len(), 8);
     assert_eq!(arrays, array_files(&two));
     let (mut s1, mut s2) = (sidecar(&one), sidecar(&two));
     assert_eq!(s1["build"]["threads"], 1);
@@ -339,6 +350,78 @@ fn builds_are_identical_whatever_the_thread_count_and_shards_merge_to_the_same_a
         assert!((o.max_temperature - g.max_temperature.unwrap()).abs() < 0.5);
     }
     cleanup("det-");
+}
+
+/// Axes across the onset of the walls on the 8 × 8 grid (the default contact shape a/b 0.55 at 100 kN, 30
+/// m/s, |ξ| ≤ 0.8 %): GW's metallic area at the dry separation covers the centre from p0 ≈ 1.55 GPa on
+/// (A_m/A_n(d_dry) 0.97 at 1.5, 1.03 at 1.6 GPa), where a wet contact's friction jumps (0.085 → 0.106).
+const ONSET_AXES: &str = concat!(
+    small_creepages!(),
+    r#"[normal_force]
+points = [100e3]
+[speed]
+points = [30.0]
+[wetness]
+points = [0.0, 0.3]
+[semi_axis_ratio]
+points = [0.55]
+[reference_pressure]
+points = [1.3e9, 1.4e9, 1.7e9]
+"#
+);
+
+/// A build records per node whether the film enters every cell (docs/model.md §8.5): dry nodes are dry,
+/// wet nodes below the onset take in all their film and above it the metal covers part of the contact, as
+/// an independent exact solve at the node says; the cells between a wet node of each kind (p_ref 1.4 to
+/// 1.7 GPa) are unresolved (mode auto solves them exactly), the others are served by the table.
+#[test]
+fn a_build_records_where_the_metal_covers_the_contact_and_the_cells_across_the_onset_are_unresolved()
+ {
+    let (params, axes) = files("onset", SMALL_GRID, ONSET_AXES);
+    let dir = tmp("onset-table");
+    build(&params, &axes, &dir, &[], "2");
+    let files = TableFiles::read(&dir).unwrap();
+    let codes = files
+        .film_intake
+        .clone()
+        .expect("the build records the film intake");
+    let t = Table::load(&dir).unwrap();
+    let p = Params::from_toml_str(SMALL_GRID).unwrap();
+    let mut checked = 0;
+    for (i, code) in codes.iter().enumerate() {
+        let q = files.axes.coordinates(i);
+        let want = match (q[5] > 0.0, q[7] > 1.5e9) {
+            (false, _) => FilmIntake::Dry,
+            (true, false) => FilmIntake::All,
+            (true, true) => FilmIntake::Limited,
+        };
+        assert_eq!(*code, want as u8, "node {q:?}");
+        // the stored code is that of the exact solution at the node (a few nodes: 8 × 8 solves)
+        if i % 37 == 0 {
+            let (pt, e) = t.coordinates().point(&q).unwrap();
+            let mut exact = p.clone();
+            exact.geometry.semi_axes = Some([e.a, e.b]);
+            let g = solve(&exact, &pt).unwrap().global;
+            assert_eq!(
+                FilmIntake::of(pt.wetness, g.max_dry_area_fraction) as u8,
+                *code
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 3);
+    for (p_ref, resolved) in [(1.35e9, true), (1.5e9, false), (1.65e9, false)] {
+        for w in [0.0, 0.15, 0.3] {
+            let (pt, e) = t
+                .coordinates()
+                .point(&[0.4, 0.1, 0.0, 100e3, 30.0, w, 0.55, p_ref])
+                .unwrap();
+            let o = t.evaluate(&pt, &e).unwrap();
+            assert!(o.in_range);
+            assert_eq!(o.resolved, resolved, "p_ref {p_ref}, w {w}");
+        }
+    }
+    cleanup("onset-");
 }
 
 /// `--storage u16` stores each output as 16-bit codes (offset + step·code): half the bytes of the f32

@@ -393,6 +393,21 @@ impl PinnedRow {
 /// none ([`System::intake`]).
 const INTAKE_BAND: f64 = 0.005;
 
+/// The share θ = clamp((1 − A_m/A_n(d_dry))/0.005, 0, 1) of the film carried to a cell that the cell takes
+/// in (docs/model.md §8.5, project extension): 1 where GW's metallic area at the dry separation leaves free
+/// area, 0 for a wall (A_m/A_n(d_dry) ≥ 1) [-].
+pub fn intake_share(dry_area_fraction: f64) -> f64 {
+    ((1.0 - dry_area_fraction) / INTAKE_BAND).clamp(0.0, 1.0)
+}
+
+/// Whether a contact whose largest A_m/A_n(d_dry) is `max_dry_area_fraction` takes in all the film carried
+/// to each cell (θ = 1 everywhere, [`intake_share`]): false once the metal begins to cover a cell, where a
+/// wet contact begins to lose its film downstream of the covered cells, its friction rising steeply
+/// towards the dry value (docs/model.md §8.5).
+pub fn takes_in_all(max_dry_area_fraction: f64) -> bool {
+    intake_share(max_dry_area_fraction) >= 1.0
+}
+
 /// The discrete film system of one problem, with the per-cell quantities that do not change in a solve.
 struct System<'a> {
     pr: &'a FilmProblem<'a>,
@@ -468,7 +483,7 @@ impl<'a> System<'a> {
             intake: pr
                 .dry_area_fraction
                 .iter()
-                .map(|a| ((1.0 - a) / INTAKE_BAND).clamp(0.0, 1.0))
+                .map(|a| intake_share(*a))
                 .collect(),
             kind,
             open: vec![OnceCell::new(); n],

@@ -6,4 +6,7 @@ pub mod cell_geometry;
 pub mod film;
 
 pub use cell_geometry::{CellGeometry, base_height};
-pub use film::{FilmProblem, FilmSolution, FilmStart, Regime, solve_film, solve_film_newton};
+pub use film::{
+    FilmProblem, FilmSolution, FilmStart, Regime, intake_share, solve_film, solve_film_newton,
+    takes_in_all,
+};

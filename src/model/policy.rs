@@ -106,7 +106,8 @@ pub enum Fallback {
     /// The evaluation's contact lies outside the table's geometry axes (a/b, p_ref); the table was built
     /// for the other parameters.
     OtherGeometry,
-    /// The point lies in a cell across which the tabulated T_max jumps (a film-loss jump,
+    /// The point lies in a cell across which the model jumps: the tabulated T_max (a film-loss jump), or
+    /// a wet contact's friction where metal begins to cover the contact (the onset of the walls,
     /// [`crate::table::TableOutput::resolved`]).
     Unresolved,
 }

@@ -49,6 +49,7 @@ pub(super) fn solve_polach(
             min_separation: None,
             fluid_mass_balance_error: None,
             fluid_rejected_fraction: None,
+            max_dry_area_fraction: None,
         },
         fields: None,
         report: SolverReport::closed_form(),

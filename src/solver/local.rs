@@ -13,6 +13,8 @@ use crate::params::FrictionLaw;
 pub(super) struct Local {
     /// Separation at which the asperities alone carry p_n (equal to `separation` when dry) [m].
     pub dry_separation: Vec<f64>,
+    /// A_m/A_n at the dry separation (equal to `area_fraction` when dry) [-].
+    pub dry_area_fraction: Vec<f64>,
     /// Separation d of the mean planes [m].
     pub separation: Vec<f64>,
     /// Metallic contact area ratio A_m/A_n [-].
@@ -69,6 +71,7 @@ impl Setup<'_> {
             return Ok(Local {
                 dry_separation: dry.separation.clone(),
                 separation: dry.separation,
+                dry_area_fraction: dry.area_fraction.clone(),
                 area_fraction: dry.area_fraction,
                 metal_load: dry.metal_load,
                 fluid_pressure: vec![0.0; n],
@@ -83,6 +86,7 @@ impl Setup<'_> {
         report.fluid_balance_residual = film.balance_residual;
         Ok(Local {
             dry_separation: dry.separation,
+            dry_area_fraction: dry.area_fraction,
             separation: film.separation.clone(),
             area_fraction: film.area_fraction.clone(),
             metal_load: film.metal_load.clone(),

@@ -53,6 +53,13 @@ pub struct GlobalResults {
     /// pushed aside, rejected/(taken in + rejected) [-] (0 without fluid, > 0 on a flooded inlet; None
     /// unless the Tomberger law).
     pub fluid_rejected_fraction: Option<f64>,
+    /// Largest metallic area ratio A_m/A_n over the contact at the dry separation d_dry, where the asperities
+    /// alone carry p_n (docs/model.md §4.3) [-]. GW's area, which ignores overlapping asperity contacts,
+    /// exceeds the nominal area at high pressure; from 1 − 0.005 on the film model takes in less of the
+    /// carried film and at 1 treats the cell as a wall (§8.5), so the contact's downstream part loses its
+    /// film ([`crate::fluid::takes_in_all`] tells where that starts). The same dry or wet (None unless the
+    /// Tomberger law).
+    pub max_dry_area_fraction: Option<f64>,
 }
 
 /// Local fields on the grid (one value per active cell, in the order of `grid.cells`).

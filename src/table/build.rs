@@ -34,9 +34,9 @@ use super::TableOutput;
 use super::axes::{Axes, DIMS, ETA, FORCE, PHI, PRESSURE, RATIO, XI};
 use super::coords::{Coordinates, Ellipse};
 use super::file::{
-    ArrayRecord, BuildRecord, FORMAT, FORMAT_VERSION, MODEL_VERSION, OUTPUTS, ShardRecord, Sidecar,
-    Storage, TableFiles, UnconvergedRecord, axis_records, corrupt, cube_count, cube_len,
-    fingerprint, now_iso8601, shard_indices, symmetry_notes,
+    ArrayRecord, BuildRecord, FORMAT, FORMAT_VERSION, FilmIntake, MODEL_VERSION, OUTPUTS,
+    ShardRecord, Sidecar, Storage, TableFiles, UnconvergedRecord, axis_records, corrupt,
+    cube_count, cube_len, fingerprint, now_iso8601, shard_indices, symmetry_notes,
 };
 use crate::error::{Error, Result};
 use crate::params::{FrictionLaw, OperatingPoint, Params};
@@ -76,6 +76,7 @@ struct PointResult {
     outputs: [f32; OUTPUTS],
     converged: bool,
     residual: f64,
+    film_intake: FilmIntake,
 }
 
 /// The stored outputs of a solution at normal force F_N [N], speed V [m/s] with contact radius c = sqrt(a·b)
@@ -280,6 +281,10 @@ impl Cube {
                                 outputs: normalised(&sol, &point, radius)?,
                                 converged: sol.report.converged,
                                 residual: sol.report.residual,
+                                film_intake: FilmIntake::of(
+                                    point.wetness,
+                                    sol.global.max_dry_area_fraction,
+                                ),
                             })
                         })
                         .map_err(|e| {
@@ -355,6 +360,7 @@ pub fn build(
     let n = mine.len() * per_cube;
     let mut outputs: Vec<Vec<f32>> = (0..OUTPUTS).map(|_| Vec::with_capacity(n)).collect();
     let mut converged = Vec::with_capacity(n);
+    let mut film_intake = Vec::with_capacity(n);
     let mut unconverged = Vec::new();
     let mut failures = Vec::new();
     for c in 0..per_cube {
@@ -366,6 +372,7 @@ pub fn build(
                         o.push(v);
                     }
                     converged.push(u8::from(p.converged));
+                    film_intake.push(p.film_intake as u8);
                     if !p.converged && results[c].1 {
                         unconverged.push(UnconvergedRecord {
                             index,
@@ -403,6 +410,7 @@ pub fn build(
         axes: axes.clone(),
         outputs,
         converged,
+        film_intake: Some(film_intake),
     })
 }
 
@@ -425,6 +433,7 @@ pub fn tabulate(
         axes: axes.clone(),
         outputs,
         converged: vec![1; n],
+        film_intake: None,
     }
 }
 
@@ -455,6 +464,7 @@ fn sidecar(
         outputs: Vec::new(),
         converged: empty,
         unconverged,
+        film_intake: None,
         moment_scale: None,
         shard,
         storage: Storage::F32,
@@ -528,13 +538,22 @@ pub fn merge(mut shards: Vec<(TableFiles, &Path)>) -> Result<TableFiles> {
     let total = axes.len();
     let mut outputs = vec![vec![0.0f32; total]; OUTPUTS];
     let mut converged = vec![0u8; total];
+    // recorded by every shard, or by none (shards of one build agree)
+    let mut film_intake = shards
+        .iter()
+        .all(|(t, _)| t.film_intake.is_some())
+        .then(|| vec![FilmIntake::Dry as u8; total]);
     let mut unconverged = Vec::new();
     let mut duration = 0.0;
     let mut threads = 0;
     for (t, path) in &shards {
         let k = t.sidecar.shard.map_or(1, |s| s.index);
         let indices = shard_indices(&axes, ShardRecord { index: k, count });
-        if indices.len() != t.converged.len() || t.outputs.iter().any(|o| o.len() != indices.len())
+        if indices.len() != t.converged.len()
+            || t.outputs.iter().any(|o| o.len() != indices.len())
+            || t.film_intake
+                .as_ref()
+                .is_some_and(|f| f.len() != indices.len())
         {
             return Err(corrupt(
                 path,
@@ -546,6 +565,11 @@ pub fn merge(mut shards: Vec<(TableFiles, &Path)>) -> Result<TableFiles> {
                 o[i] = src[j];
             }
             converged[i] = t.converged[j];
+        }
+        if let (Some(all), Some(part)) = (film_intake.as_mut(), &t.film_intake) {
+            for (j, &i) in indices.iter().enumerate() {
+                all[i] = part[j];
+            }
         }
         unconverged.extend(t.sidecar.unconverged.iter().cloned());
         duration += t.sidecar.build.duration_seconds;
@@ -566,5 +590,6 @@ pub fn merge(mut shards: Vec<(TableFiles, &Path)>) -> Result<TableFiles> {
         axes,
         outputs,
         converged,
+        film_intake,
     })
 }

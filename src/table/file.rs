@@ -36,8 +36,10 @@ pub const FORMAT: &str = "wheelrail-table";
 pub const FORMAT_VERSION: u32 = 2;
 /// File name of the sidecar.
 pub const SIDECAR: &str = "table.json";
-/// File of the per-point converged flags.
-pub const CONVERGED_FILE: &str = "converged.npy";
+/// Name (file stem) of the per-point converged flags.
+pub const CONVERGED: &str = "converged";
+/// Name (file stem) of the per-point film-intake states ([`FilmIntake`]).
+pub const FILM_INTAKE: &str = "film_intake";
 /// Version of the model (the crate version) recorded in and required of every table.
 pub const MODEL_VERSION: &str = env!("CARGO_PKG_VERSION");
 
@@ -164,9 +166,10 @@ impl Codec {
         format!("{name}.u16{}", self.letter())
     }
 
-    /// The file of the per-point converged flags (the flags compressed as they are).
-    pub fn converged_file(self) -> String {
-        format!("converged.u8{}", self.letter())
+    /// The file of a per-point u8 array `name` (converged flags, film-intake states: compressed as they
+    /// are).
+    pub fn flags_file(self, name: &str) -> String {
+        format!("{name}.u8{}", self.letter())
     }
 
     /// `bytes` as one stream of this codec.
@@ -379,6 +382,10 @@ pub struct Sidecar {
     pub converged: ArrayRecord,
     /// Points that did not converge (also flagged 0 in `converged`).
     pub unconverged: Vec<UnconvergedRecord>,
+    /// Per-point film-intake states ([`FilmIntake`]); absent from tables built before they were recorded
+    /// (such a table marks no cell unresolved by them).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub film_intake: Option<ArrayRecord>,
     /// Format version 1 only: the normalisation of the spin moment by the contact radius c(F_N) of its
     /// geometry, which is √(a·b) of the contact, as in version 2 (kept to read such sidecars; unused).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -616,6 +623,43 @@ pub struct TableFiles {
     pub outputs: Vec<Vec<f32>>,
     /// Per point: 1 converged, 0 not.
     pub converged: Vec<u8>,
+    /// Per point: the [`FilmIntake`] code of its solution (None: not recorded).
+    pub film_intake: Option<Vec<u8>>,
+}
+
+/// Whether the film enters every cell of a point's contact, as code of the `film_intake` array. The film
+/// model treats a cell that GW's metallic area covers (A_m/A_n at the dry separation reaching 1) as a wall
+/// that takes in none of the film carried to it (docs/model.md §8.5): downstream of it the contact runs
+/// dry, so the friction of a wet contact rises steeply over a few per cent of p0 once its centre is
+/// covered (at about 1.49 GPa for the default contact cold, earlier hot). A table cell whose corners hold
+/// both [`FilmIntake::All`] and [`FilmIntake::Limited`] straddles that onset ([`crate::table::Table`] marks
+/// it unresolved).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum FilmIntake {
+    /// Wet, and every cell takes in all the film carried to it (θ = 1, [`crate::fluid::intake_share`]).
+    All = 0,
+    /// Wet, and the metal covers part of the contact: some cell takes in less (θ < 1).
+    Limited = 1,
+    /// No film (wetness 0): the walls change nothing.
+    Dry = 2,
+}
+
+impl FilmIntake {
+    /// The state of a solution at wetness `wetness` whose largest A_m/A_n(d_dry) is
+    /// `max_dry_area_fraction` (None: a law without the microcontact, treated as dry).
+    pub fn of(wetness: f64, max_dry_area_fraction: Option<f64>) -> FilmIntake {
+        match max_dry_area_fraction {
+            Some(a) if wetness > 0.0 => {
+                if crate::fluid::takes_in_all(a) {
+                    FilmIntake::All
+                } else {
+                    FilmIntake::Limited
+                }
+            }
+            _ => FilmIntake::Dry,
+        }
+    }
 }
 
 /// `.npy` bytes of a flat array in the given shape.
@@ -686,22 +730,26 @@ impl TableFiles {
                 quantization,
             });
         }
-        let (converged_file, bytes) = match compressed {
-            Some(c) => (c.converged_file(), c.compress(&self.converged)),
-            None => (CONVERGED_FILE.into(), npy_bytes(&self.converged, &shape)),
-        };
-        let path = dir.join(&converged_file);
-        std::fs::write(&path, &bytes).map_err(|e| io(&path, e))?;
         self.sidecar.outputs = records;
-        self.sidecar.converged = ArrayRecord {
-            name: "converged".into(),
-            unit: "-".into(),
-            description:
-                "1: the exact solution at this point converged; 0: it did not (see unconverged)"
-                    .into(),
-            file: converged_file,
-            sha256: sha256_hex(&bytes),
-            quantization: None,
+        self.sidecar.converged = write_flags(
+            dir,
+            CONVERGED,
+            "1: the exact solution at this point converged; 0: it did not (see unconverged)",
+            &self.converged,
+            &shape,
+            compressed,
+        )?;
+        self.sidecar.film_intake = match &self.film_intake {
+            Some(f) => Some(write_flags(
+                dir,
+                FILM_INTAKE,
+                "0: wet, every cell takes in the film carried to it; 1: wet, the metal covers part of the \
+                 contact (A_m/A_n at the dry separation >= 0.995: walls, docs/model.md 8.5); 2: no film",
+                f,
+                &shape,
+                compressed,
+            )?),
+            None => None,
         };
         let text = serde_json::to_string_pretty(&self.sidecar).expect("sidecar serialises") + "\n";
         let path = dir.join(SIDECAR);
@@ -842,25 +890,76 @@ impl TableFiles {
             // format version 1 has no frictional power: NaN, which the table reports as absent
             outputs.push(vec![f32::NAN; outputs[0].len()]);
         }
-        let converged = match compressed {
-            Some(c) => c
-                .decompress(
-                    &read_bytes(dir, &sidecar.converged)?,
-                    shape.iter().product(),
-                )
-                .map_err(|e| corrupt(&dir.join(&sidecar.converged.file), e))?,
-            None => {
-                read_array::<u8>(dir, &sidecar.converged, &shape)?
-                    .into_raw_vec_and_offset()
-                    .0
-            }
+        let converged = read_flags(dir, &sidecar.converged, &shape, compressed, 1)?;
+        let film_intake = match &sidecar.film_intake {
+            Some(rec) => Some(read_flags(
+                dir,
+                rec,
+                &shape,
+                compressed,
+                FilmIntake::Dry as u8,
+            )?),
+            None => None,
         };
         Ok(TableFiles {
             sidecar,
             axes,
             outputs,
             converged,
+            film_intake,
         })
+    }
+}
+
+/// Writes a per-point u8 array `name` into `dir` (`.npy`, or compressed by `codec` as it is) and returns
+/// its record.
+fn write_flags(
+    dir: &Path,
+    name: &str,
+    description: &str,
+    data: &[u8],
+    shape: &[usize],
+    codec: Option<Codec>,
+) -> Result<ArrayRecord> {
+    let (file, bytes) = match codec {
+        Some(c) => (c.flags_file(name), c.compress(data)),
+        None => (format!("{name}.npy"), npy_bytes(data, shape)),
+    };
+    let path = dir.join(&file);
+    std::fs::write(&path, &bytes).map_err(|e| corrupt(&path, format!("cannot write: {e}")))?;
+    Ok(ArrayRecord {
+        name: name.into(),
+        unit: "-".into(),
+        description: description.into(),
+        file,
+        sha256: sha256_hex(&bytes),
+        quantization: None,
+    })
+}
+
+/// Reads the per-point u8 array of `rec` ([`write_flags`]) of `shape`; an error naming the file if it is
+/// not one or holds a value above `max`.
+fn read_flags(
+    dir: &Path,
+    rec: &ArrayRecord,
+    shape: &[usize],
+    codec: Option<Codec>,
+    max: u8,
+) -> Result<Vec<u8>> {
+    let path = dir.join(&rec.file);
+    let v = match codec {
+        Some(c) => c
+            .decompress(&read_bytes(dir, rec)?, shape.iter().product())
+            .map_err(|e| corrupt(&path, e))?,
+        None => {
+            read_array::<u8>(dir, rec, shape)?
+                .into_raw_vec_and_offset()
+                .0
+        }
+    };
+    match v.iter().find(|x| **x > max) {
+        Some(x) => Err(corrupt(&path, format!("holds {x}, not a code 0..={max}"))),
+        None => Ok(v),
     }
 }
 

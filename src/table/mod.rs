@@ -26,7 +26,8 @@ pub use axes::{Axes, AxesSpec, Axis, AxisSpec, DIMENSIONS, DIMS, Interpolation, 
 pub use build::{build, merge, solve_with_retry, tabulate};
 pub use coords::{Coordinates, Ellipse};
 pub use file::{
-    OUTPUT_INFO, OUTPUTS, Quantization, ShardRecord, Sidecar, Storage, TableFiles, fingerprint,
+    FilmIntake, OUTPUT_INFO, OUTPUTS, Quantization, ShardRecord, Sidecar, Storage, TableFiles,
+    fingerprint,
 };
 
 use crate::error::{Error, Result};
@@ -62,10 +63,12 @@ pub struct TableOutput {
     /// Whether every table point used by the interpolation converged when the table was built.
     pub converged: bool,
     /// Whether the table resolves the point's cell: its stored T_max varies by at most
-    /// [`JUMP_SPREAD`] across the cell's corners. Where it varies more, the cell holds a jump of the
-    /// model — the hottest region of a hot wet contact losing its film, T_max rising by ~330 K within
-    /// 0.2 % of creepage (docs/model.md §12.3) — which no interpolation follows; mode auto solves such
-    /// points exactly.
+    /// [`JUMP_SPREAD`] across the cell's corners, and (where the table records the film intake,
+    /// [`FilmIntake`]) its wet corners either all take in their film or all are partly covered by metal.
+    /// Otherwise the cell holds a jump of the model that no interpolation follows — the hottest region of
+    /// a hot wet contact losing its film, T_max rising by ~330 K within 0.2 % of creepage, or the onset of
+    /// the walls, the friction of a wet contact rising by up to 0.03 within 1 % of p0 (docs/model.md
+    /// §12.3) — and mode auto solves the point exactly.
     pub resolved: bool,
 }
 
@@ -211,8 +214,8 @@ pub struct Table {
     /// Per point in memory order: whether it converged (1) when the table was built.
     converged: Vec<u8>,
     all_converged: bool,
-    /// Per point in memory order: 1 where the cell whose lowest corner it is does not resolve its T_max
-    /// ([`TableOutput::resolved`], [`unresolved_cells`]); empty where every cell does.
+    /// Per point in memory order: 1 where the cell whose lowest corner it is holds a jump of the model
+    /// ([`TableOutput::resolved`], [`unresolved_cells`]); empty where every cell is resolved.
     unresolved: Vec<u8>,
     /// Whether lookups prefetch the rows of the next ξ̂ window node (tables larger than `PREFETCH_ABOVE`).
     prefetch: bool,
@@ -254,6 +257,7 @@ impl Table {
         if files.outputs.len() != OUTPUTS
             || files.outputs.iter().any(|o| o.len() != n)
             || files.converged.len() != n
+            || files.film_intake.as_ref().is_some_and(|f| f.len() != n)
         {
             return Err(file::corrupt(where_, "array sizes do not match the axes"));
         }
@@ -287,7 +291,7 @@ impl Table {
         let interp =
             std::array::from_fn(|d| AxisInterp::new(&axes.0[d], axes.0[d].interpolation(d)));
         let mut unresolved = vec![0; n];
-        for (i, u) in unresolved_cells(&shape, &files.outputs[3])
+        for (i, u) in unresolved_cells(&shape, &files.outputs[3], files.film_intake.as_deref())
             .iter()
             .enumerate()
         {
@@ -1064,26 +1068,42 @@ unsafe fn corner_sum_avx2<const PAIR: bool>(
     out
 }
 
-/// Per point of a table of `shape` (C order), 1 where the cell whose lowest corner it is does not resolve
-/// its T_max: the stored values `t` [K] at the cell's corners (two nodes along every axis of more than
-/// one point) spread by more than [`JUMP_SPREAD`]. The largest and smallest value over each cell come
-/// from one pass per axis, each taking the larger (smaller) of a node and its successor.
-fn unresolved_cells(shape: &[usize; DIMS], t: &[f32]) -> Vec<u8> {
-    let (mut hi, mut lo) = (t.to_vec(), t.to_vec());
+/// Per point of a table of `shape` (C order), 1 where the cell whose lowest corner it is holds a jump of
+/// the model that no interpolation follows ([`TableOutput::resolved`]): the stored T_max `t` [K] at the
+/// cell's corners (two nodes along every axis of more than one point) spreads by more than
+/// [`JUMP_SPREAD`], or its corners' film-intake codes `film` ([`FilmIntake`], if recorded) hold both a wet
+/// contact that takes in all its film and one that the metal partly covers: the cell straddles the onset
+/// of the walls, across which a wet contact's friction rises by up to ~0.03·F_N within 1 % of p0
+/// (docs/model.md §8.5, §12.3). Dry corners straddle nothing (the walls change no dry contact).
+fn unresolved_cells(shape: &[usize; DIMS], t: &[f32], film: Option<&[u8]>) -> Vec<u8> {
+    let hi = over_cells(shape, t.to_vec(), f32::max);
+    let lo = over_cells(shape, t.to_vec(), f32::min);
+    // per cell, the codes present at its corners as bits 1 << code
+    let codes = film.map(|f| over_cells(shape, f.iter().map(|c| 1u8 << c).collect(), |a, b| a | b));
+    let straddle = (1 << FilmIntake::All as u8) | (1 << FilmIntake::Limited as u8);
+    (0..t.len())
+        .map(|i| {
+            let jump = f64::from(hi[i]) - f64::from(lo[i]) > JUMP_SPREAD;
+            let onset = codes.as_ref().is_some_and(|c| c[i] & straddle == straddle);
+            u8::from(jump || onset)
+        })
+        .collect()
+}
+
+/// Per point of a table of `shape` (C order), `v` combined by `f` (associative and commutative: max, min,
+/// or) over the corners of the cell whose lowest corner it is: one pass per axis, each combining a node
+/// with its successor.
+fn over_cells<T: Copy>(shape: &[usize; DIMS], mut v: Vec<T>, f: impl Fn(T, T) -> T) -> Vec<T> {
     for d in 0..DIMS {
         let stride: usize = shape[d + 1..].iter().product();
         // ascending: the successor still holds the previous pass's value when a node reads it
-        for i in 0..t.len() {
+        for i in 0..v.len() {
             if (i / stride) % shape[d] + 1 < shape[d] {
-                hi[i] = hi[i].max(hi[i + stride]);
-                lo[i] = lo[i].min(lo[i + stride]);
+                v[i] = f(v[i], v[i + stride]);
             }
         }
     }
-    hi.iter()
-        .zip(&lo)
-        .map(|(h, l)| u8::from(f64::from(*h) - f64::from(*l) > JUMP_SPREAD))
-        .collect()
+    v
 }
 
 /// The row strides of a table of `shape` in memory order: C order over (ξ̂, η̂, F_N, V, w, a/b, p_ref, φ̂).
@@ -1432,6 +1452,91 @@ mod tests {
             seen[usize::from(o.resolved)] += 1;
         }
         assert!(seen.iter().all(|n| *n > 20), "{seen:?}");
+    }
+
+    /// A table over `axes` of `f` with the film-intake code `film(c)` at each node c.
+    fn with_film_intake(
+        axes: &Axes,
+        f: &dyn Fn(&[f64; DIMS]) -> [f64; OUTPUTS],
+        film: &dyn Fn(&[f64; DIMS]) -> FilmIntake,
+    ) -> Table {
+        let mut files = tabulate(&coarse_params(), axes, f);
+        files.film_intake = Some(
+            (0..axes.len())
+                .map(|i| film(&axes.coordinates(i)) as u8)
+                .collect(),
+        );
+        Table::from_files(files, None).unwrap()
+    }
+
+    #[test]
+    fn cells_straddling_the_onset_of_the_walls_are_not_resolved() {
+        // wet nodes: the metal covers part of the contact at the high p_ref node where |ξ̂| = 10 (a hot
+        // contact reaches the onset first); dry nodes: no film. Only the cells between ξ̂ = 1 and 10 have a
+        // corner of each wet kind; the T_max of `symmetric_saturating` spreads by < 100 K (no jump)
+        let wet_onset =
+            |c: &[f64; DIMS]| match (c[WET] > 0.0, c[XI].abs() > 5.0 && c[PRESSURE] > 0.8e9) {
+                (false, _) => FilmIntake::Dry,
+                (true, true) => FilmIntake::Limited,
+                (true, false) => FilmIntake::All,
+            };
+        let t = with_film_intake(&tiny_axes(), &symmetric_saturating, &wet_onset);
+        // every wet node covered: dry and covered corners straddle nothing
+        let covered = |c: &[f64; DIMS]| {
+            if c[WET] > 0.0 {
+                FilmIntake::Limited
+            } else {
+                FilmIntake::Dry
+            }
+        };
+        let all = with_film_intake(&tiny_axes(), &symmetric_saturating, &covered);
+        assert!(all.unresolved.is_empty());
+        let mut rng = verify::SplitMix64::new(5);
+        let mut seen = [0; 2];
+        for _ in 0..500 {
+            let c = random_coordinates(&mut rng);
+            let (p, e) = at(&t, &c, Ellipse::HERTZ);
+            let o = t.evaluate(&p, &e).unwrap();
+            assert_eq!(o.resolved, c[XI].abs() < 1.0, "{c:?}");
+            assert!(all.evaluate(&p, &e).unwrap().resolved);
+            seen[usize::from(o.resolved)] += 1;
+        }
+        assert!(seen.iter().all(|n| *n > 20), "{seen:?}");
+    }
+
+    #[test]
+    fn film_intake_codes_round_trip_through_every_storage_and_bad_codes_are_refused() {
+        let axes = tiny_axes();
+        let mut files = tabulate(&coarse_params(), &axes, &symmetric_saturating);
+        let codes: Vec<u8> = (0..axes.len()).map(|i| (i % 3) as u8).collect();
+        let dir =
+            std::env::temp_dir().join(format!("wheelrail-film-intake-{}", std::process::id()));
+        // a table without the codes (built before they were recorded) reads without them
+        files.write(&dir.join("none")).unwrap();
+        assert_eq!(
+            TableFiles::read(&dir.join("none")).unwrap().film_intake,
+            None
+        );
+        files.film_intake = Some(codes.clone());
+        for storage in [Storage::F32, Storage::U16, Storage::U16z, Storage::U16x] {
+            let mut f = files.clone();
+            f.sidecar.storage = storage;
+            let d = dir.join(storage.to_string());
+            f.write(&d).unwrap();
+            let back = TableFiles::read(&d).unwrap();
+            assert_eq!(back.film_intake.as_deref(), Some(&codes[..]), "{storage}");
+            assert_eq!(back.sidecar.film_intake.unwrap().name, "film_intake");
+        }
+        // a code beyond 2 (with a matching hash) is refused naming the file
+        let mut bad = files.clone();
+        bad.film_intake.as_mut().unwrap()[7] = 3;
+        bad.write(&dir.join("bad")).unwrap();
+        let e = TableFiles::read(&dir.join("bad")).unwrap_err().to_string();
+        assert!(
+            e.contains("film_intake.npy") && e.contains("holds 3"),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

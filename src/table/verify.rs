@@ -190,7 +190,7 @@ pub struct VerifyReport {
     /// Compared points whose table stencil holds an unconverged table point.
     pub table_unconverged: usize,
     /// Compared points in cells the table does not resolve ([`TableOutput::resolved`]: T_max jumps across
-    /// them). Mode auto solves them exactly, so the statistics below, those of the outputs mode auto gives,
+    /// them, or their wet corners straddle the onset of the walls). Mode auto solves them exactly, so the statistics below, those of the outputs mode auto gives,
     /// count them with error 0 (the table's own values stay in the CSV); the worst point is not one of them.
     pub unresolved: usize,
     /// |ΔF|/F_N, F = (F_x, F_y) [-].

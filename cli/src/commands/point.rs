@@ -110,7 +110,7 @@ fn warn(evaluator: &Evaluator, e: &Evaluation) {
                 "warning: the point lies outside the table's ranges; the exact solver evaluates it"
             ),
             Notice::FellBack(Fallback::Unresolved) => eprintln!(
-                "warning: the point lies in a table cell across which T_max jumps (a wet contact losing its film); the exact solver evaluates it"
+                "warning: the point lies in a table cell across which the model jumps (a wet contact losing its film: T_max of a hot one, or where metal begins to cover the contact); the exact solver evaluates it"
             ),
             Notice::FellBack(Fallback::OtherParameters) => eprintln!(
                 "warning: the table at {} was built for other parameters; the exact solver evaluates the point",

@@ -452,9 +452,9 @@ fn print_report(r: &VerifyReport, seconds: f64) {
     );
     if r.unresolved > 0 {
         println!(
-            "{} of them ({:.1} %) in cells across which the table's T_max jumps (a wet contact losing its \
-             film): mode auto solves such points exactly, so they count with error 0 below (the CSV \
-             holds the table's values)",
+            "{} of them ({:.1} %) in cells across which the model jumps (a wet contact losing its film: \
+             the T_max of a hot one, or where metal begins to cover the contact): mode auto solves such \
+             points exactly, so they count with error 0 below (the CSV holds the table's values)",
             r.unresolved,
             100.0 * r.unresolved as f64 / r.compared as f64,
         );
@@ -580,6 +580,7 @@ fn info(dir: &Path) -> Result<()> {
         .outputs
         .iter()
         .chain(std::iter::once(&s.converged))
+        .chain(&s.film_intake)
         .filter_map(|r| std::fs::metadata(dir.join(&r.file)).ok())
         .map(|m| m.len())
         .sum();
@@ -605,6 +606,14 @@ fn info(dir: &Path) -> Result<()> {
         }
     );
     println!("  unconverged     {} point(s)", s.unconverged.len());
+    println!(
+        "  film intake     {}",
+        if s.film_intake.is_some() {
+            "recorded (cells across the onset of the walls are unresolved)"
+        } else {
+            "not recorded (built before 2026-11-28)"
+        }
+    );
     Ok(())
 }
 

@@ -222,8 +222,9 @@ impl Warned {
                             "an operating point lies outside the lookup table's ranges".into()
                         }
                         Fallback::Unresolved => "an operating point lies in a cell of the lookup \
-                                                 table across which its maximum temperature jumps \
-                                                 (a hot wet contact losing its film)"
+                                                 table across which the model jumps (a wet contact \
+                                                 losing its film: a hot one's maximum temperature, \
+                                                 or where metal begins to cover the contact)"
                             .into(),
                         Fallback::OtherGeometry => format!(
                             "the contact geometry (curvature_longitudinal, curvature_lateral, semi_axis_a, \
