@@ -115,13 +115,7 @@ fn global_results(setup: &Setup, it: &Iterate) -> GlobalResults {
         }),
         fluid_mass_balance_error: film(|f| (f.inflow - f.outflow - f.expelled) / f.inflow),
         fluid_rejected_fraction: film(|f| f.rejected / (f.inflow + f.rejected)),
-        max_dry_area_fraction: fluid.then(|| {
-            local
-                .dry_area_fraction
-                .iter()
-                .cloned()
-                .fold(f64::NEG_INFINITY, f64::max)
-        }),
+        max_dry_area_fraction: fluid.then_some(local.max_dry_area_fraction),
     }
 }
 

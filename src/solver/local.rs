@@ -13,8 +13,9 @@ use crate::params::FrictionLaw;
 pub(super) struct Local {
     /// Separation at which the asperities alone carry p_n (equal to `separation` when dry) [m].
     pub dry_separation: Vec<f64>,
-    /// A_m/A_n at the dry separation (equal to `area_fraction` when dry) [-].
-    pub dry_area_fraction: Vec<f64>,
+    /// The largest A_m/A_n at the dry separation over the cells [-] (where the walls of the film begin,
+    /// `fluid::takes_in_all`).
+    pub max_dry_area_fraction: f64,
     /// Separation d of the mean planes [m].
     pub separation: Vec<f64>,
     /// Metallic contact area ratio A_m/A_n [-].
@@ -65,13 +66,18 @@ impl Setup<'_> {
         report: &mut SolverReport,
     ) -> Result<Local> {
         let dry = self.dry(mats, dry_guess, report)?;
+        let max_dry_area_fraction = dry
+            .area_fraction
+            .iter()
+            .cloned()
+            .fold(f64::NEG_INFINITY, f64::max);
         let h_f0 = self.inlet_film();
         if h_f0 <= 0.0 {
             let n = self.grid.len();
             return Ok(Local {
                 dry_separation: dry.separation.clone(),
                 separation: dry.separation,
-                dry_area_fraction: dry.area_fraction.clone(),
+                max_dry_area_fraction,
                 area_fraction: dry.area_fraction,
                 metal_load: dry.metal_load,
                 fluid_pressure: vec![0.0; n],
@@ -86,7 +92,7 @@ impl Setup<'_> {
         report.fluid_balance_residual = film.balance_residual;
         Ok(Local {
             dry_separation: dry.separation,
-            dry_area_fraction: dry.area_fraction,
+            max_dry_area_fraction,
             separation: film.separation.clone(),
             area_fraction: film.area_fraction.clone(),
             metal_load: film.metal_load.clone(),

@@ -565,9 +565,7 @@ pub fn merge(mut shards: Vec<(TableFiles, &Path)>) -> Result<TableFiles> {
                 o[i] = src[j];
             }
             converged[i] = t.converged[j];
-        }
-        if let (Some(all), Some(part)) = (film_intake.as_mut(), &t.film_intake) {
-            for (j, &i) in indices.iter().enumerate() {
+            if let (Some(all), Some(part)) = (film_intake.as_mut(), &t.film_intake) {
                 all[i] = part[j];
             }
         }
