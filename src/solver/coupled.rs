@@ -91,6 +91,10 @@ fn contact_of(
 /// q/(1 − q)·change stands for the residual ([`Coupled::contraction`]): at most the change itself.
 const MAX_CONTRACTION: f64 = 0.5;
 
+/// Iterations without a new smallest residual after which the outer iteration counts as stalled and damps
+/// its oscillating cells one by one ([`Relaxation::damp_cells`], docs/model.md §9).
+const STALL_ITERATIONS: usize = 6;
+
 /// The state of the outer iteration between two iterations.
 struct Coupled<'s, 'w> {
     setup: &'s Setup<'s>,
@@ -121,6 +125,8 @@ struct Coupled<'s, 'w> {
     /// Whether the last exact tangential solve converged (true with FASTSIM, which does not iterate).
     tangential_converged: bool,
     relaxation: Relaxation,
+    /// The smallest residual so far and the iteration that reached it (for the stall test).
+    best: (f64, usize),
     backtracking: Backtracking,
     /// Whether this iteration's film had no solution (Newton's last film kept, see [`Coupled::local`]).
     film_failed: bool,
@@ -164,6 +170,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
                 .map(|w| w.traction.clone()),
             tangential_converged: true,
             relaxation: Relaxation::new(setup.params.solver.relaxation),
+            best: (f64::INFINITY, 0),
             backtracking: Backtracking::default(),
             film_failed: false,
             report: SolverReport::start(),
@@ -190,6 +197,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
             // the a-posteriori estimate of this iterate's distance from the fixed point where the
             // iteration is known to contract, else the change itself
             self.report.residual = contraction.map_or(change, |q| q / (1.0 - q) * change);
+            self.watch_for_stall();
 
             let solver = &self.setup.params.solver;
             let outer_met = self.report.residual <= solver.tolerance;
@@ -217,6 +225,18 @@ impl<'s, 'w> Coupled<'s, 'w> {
             };
             self.report.stop(termination);
             return Ok(self.finish(step));
+        }
+    }
+
+    /// Switches on per-cell damping once the residual has not reached a new smallest value for
+    /// [`STALL_ITERATIONS`] iterations: the global factor then keeps a few steep cells in a cycle (see
+    /// [`Relaxation`]).
+    fn watch_for_stall(&mut self) {
+        let (residual, iteration) = (self.report.residual, self.report.iterations);
+        if residual < self.best.0 {
+            self.best = (residual, iteration);
+        } else if iteration - self.best.1 >= STALL_ITERATIONS {
+            self.relaxation.damp_cells();
         }
     }
 

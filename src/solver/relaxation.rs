@@ -4,9 +4,26 @@
 //! slip power; the update T ← T + ω·ΔT is relaxed with Aitken's Δ² factor in the vector form of Irons and
 //! Tuck (Int. J. Numer. Methods Eng. 1 (1969) 275): ω ← −ω·(Δ₀·(Δ₁ − Δ₀))/|Δ₁ − Δ₀|², clamped to
 //! [0.02, 1], with Δ₀, Δ₁ the previous and the current increment (docs/model.md §9).
+//!
+//! One factor for the whole field cannot settle a few cells whose target is far steeper than the rest:
+//! where a wet contact's metal just covers a cell (the onset of the walls, §8.5) the film downstream
+//! switches within a few kelvin of that cell's temperature, its adhesion limit with it, and the global factor
+//! that suits the field (near 1) throws these cells across the switch at every update: the iteration
+//! settles into a cycle of period 2–4. Once the iteration stalls, the coupled solver therefore switches on
+//! **per-cell damping** ([`Relaxation::damp_cells`]): T_i ← T_i + ω·c_i·Δ_i with a factor c_i per cell that
+//! halves (down to 0.02) whenever the cell's increment reverses its sign and exceeds a tenth of the largest,
+//! and otherwise grows by 1.2 back up to 1.
 
 /// Smallest and largest relaxation factor.
 const OMEGA_RANGE: (f64, f64) = (0.02, 1.0);
+
+/// Per-cell damping: a cell's increment reversing its sign counts as an oscillation where it exceeds this
+/// fraction of the largest increment.
+const REVERSAL_SHARE: f64 = 0.1;
+/// Per-cell damping: the factor by which an oscillating cell's factor is multiplied.
+const DAMPING: f64 = 0.5;
+/// Per-cell damping: growth of a cell's factor per update while the cell does not oscillate.
+const RECOVERY: f64 = 1.2;
 
 /// The relaxation factor and the previous increment.
 pub(super) struct Relaxation {
@@ -14,6 +31,8 @@ pub(super) struct Relaxation {
     omega: f64,
     /// The increment T_target − T of the previous update [K].
     previous: Option<Vec<f64>>,
+    /// The per-cell damping factors c_i ∈ [0.02, 1], once switched on ([`Relaxation::damp_cells`]).
+    cells: Option<Vec<f64>>,
 }
 
 impl Relaxation {
@@ -22,13 +41,22 @@ impl Relaxation {
         Self {
             omega,
             previous: None,
+            cells: None,
         }
     }
 
-    /// Whether the updates so far were plain fixed-point steps T ← T_target (ω = 1): then successive
-    /// increments shrink by the contraction factor of the fixed-point map.
+    /// Whether the updates so far were plain fixed-point steps T ← T_target (ω = 1, every per-cell factor
+    /// 1): then successive increments shrink by the contraction factor of the fixed-point map.
     pub fn is_plain(&self) -> bool {
-        self.omega == 1.0
+        self.omega == 1.0 && self.cells.iter().flatten().all(|c| *c == 1.0)
+    }
+
+    /// Switches on per-cell damping from the next update on (every factor starting at 1); see the module
+    /// documentation.
+    pub fn damp_cells(&mut self) {
+        if self.cells.is_none() {
+            self.cells = Some(Vec::new());
+        }
     }
 
     /// Halves the factor (after a backtracked update).
@@ -39,6 +67,9 @@ impl Relaxation {
     /// Updates ω by Aitken's Δ² from the previous increment (if any; ω is kept when the increments
     /// agree), then moves `temperature` by ω·`increment` [K].
     pub fn apply(&mut self, temperature: &mut [f64], increment: Vec<f64>) {
+        if let Some(cells) = &mut self.cells {
+            damp_oscillating(cells, &increment, self.previous.as_deref());
+        }
         if let Some(prev) = &self.previous {
             let mut num = 0.0;
             let mut den = 0.0;
@@ -51,10 +82,39 @@ impl Relaxation {
                 self.omega = (-self.omega * num / den).clamp(OMEGA_RANGE.0, OMEGA_RANGE.1);
             }
         }
-        for (t, d) in temperature.iter_mut().zip(&increment) {
-            *t += self.omega * d;
+        match &self.cells {
+            Some(cells) => {
+                for ((t, d), c) in temperature.iter_mut().zip(&increment).zip(cells) {
+                    *t += self.omega * c * d;
+                }
+            }
+            None => {
+                for (t, d) in temperature.iter_mut().zip(&increment) {
+                    *t += self.omega * d;
+                }
+            }
         }
         self.previous = Some(increment);
+    }
+}
+
+/// Updates the per-cell damping factors `cells` (resized to 1 per cell at first) for the increment
+/// `increment` after `previous` [K]: halved where the increment reverses its sign and exceeds
+/// [`REVERSAL_SHARE`] of the largest, else grown by [`RECOVERY`], within [0.02, 1].
+fn damp_oscillating(cells: &mut Vec<f64>, increment: &[f64], previous: Option<&[f64]>) {
+    if cells.len() != increment.len() {
+        *cells = vec![1.0; increment.len()];
+    }
+    let Some(previous) = previous else {
+        return;
+    };
+    let largest = increment.iter().fold(0.0, |m: f64, d| m.max(d.abs()));
+    for ((c, d), p) in cells.iter_mut().zip(increment).zip(previous) {
+        *c = if d * p < 0.0 && d.abs() > REVERSAL_SHARE * largest {
+            (*c * DAMPING).max(OMEGA_RANGE.0)
+        } else {
+            (*c * RECOVERY).min(OMEGA_RANGE.1)
+        };
     }
 }
 
@@ -88,5 +148,51 @@ mod tests {
         }
         r.damp();
         assert!((r.omega - 0.5 / (1.0 - a)).abs() < 1e-12);
+    }
+
+    /// A fixed point T = g(T) of three cells: one follows a switch (a step of 16 K smoothed over ±1/4 K,
+    /// slope −32 at its fixed point T = 10 K, as a cell whose film switches with its temperature), two
+    /// follow smooth contractions. The global factor alone cycles (its Aitken estimate suits the smooth
+    /// cells); with per-cell damping the iteration converges to the exact fixed point (10, 10, 2/0.7 K).
+    #[test]
+    fn per_cell_damping_settles_a_steep_cell_that_the_global_factor_keeps_cycling() {
+        let g = |t: &[f64]| {
+            vec![
+                10.0 - 8.0 * (4.0 * (t[0] - 10.0)).tanh(),
+                0.5 * t[1] + 5.0,
+                0.3 * t[2] + 0.2 * t[0],
+            ]
+        };
+        let fixed = [10.0, 10.0, 2.0 / 0.7];
+        // the largest increment after `n` updates from T = (12, 0, 0), with or without per-cell damping
+        let run = |per_cell: bool, n: usize| {
+            let mut r = Relaxation::new(1.0);
+            if per_cell {
+                r.damp_cells();
+            }
+            let mut t = vec![12.0, 0.0, 0.0];
+            for _ in 0..n {
+                let increment: Vec<f64> = g(&t).iter().zip(&t).map(|(a, b)| a - b).collect();
+                r.apply(&mut t, increment);
+            }
+            t
+        };
+        let cycling = run(false, 400);
+        assert!((cycling[0] - fixed[0]).abs() > 0.1, "{cycling:?}");
+        let settled = run(true, 400);
+        for (x, f) in settled.iter().zip(fixed) {
+            assert!((x - f).abs() < 1e-9, "{settled:?}");
+        }
+        // a cell whose increment reverses is damped (c = 1/2), the other moves by ω·Δ; the update is then
+        // no plain fixed-point step
+        let mut r = Relaxation::new(1.0);
+        r.damp_cells();
+        let mut t = vec![0.0, 0.0];
+        r.apply(&mut t, vec![1.0, 1.0]);
+        assert!(r.is_plain());
+        r.apply(&mut t, vec![-1.0, 1.0]);
+        // Aitken: ω = −1·(1·(−2) + 1·0)/(4 + 0) = 1/2
+        assert_eq!(t, vec![1.0 - 0.5 * 0.5, 1.0 + 0.5]);
+        assert!(!r.is_plain());
     }
 }
