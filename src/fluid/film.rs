@@ -418,6 +418,8 @@ struct System<'a> {
     supply: f64,
     /// Scale of the fluid height in the convergence test: h_f0, at least 10⁻³·z_s [m].
     film_scale: f64,
+    /// The faces of each cell, their factors c scaled by the smaller intake share θ of the two cells
+    /// ([`System::intake`]).
     faces: Vec<Faces>,
     /// l_v(d_dry) per cell [m].
     dry_void: Vec<f64>,
@@ -471,6 +473,22 @@ impl<'a> System<'a> {
                 *lv = 0.0;
             }
         }
+        let intake: Vec<f64> = pr
+            .dry_area_fraction
+            .iter()
+            .map(|a| intake_share(*a))
+            .collect();
+        // the pressure-driven flow through a face scales with the share of the more nearly covered of its
+        // two cells (symmetric: what leaves one cell enters the other)
+        let faces = (0..n)
+            .map(|k| {
+                let mut f = Faces::of(grid, k, cx, cy);
+                for (nb, cf) in f.list[..f.count].iter_mut() {
+                    *cf *= intake[k].min(intake[*nb]);
+                }
+                f
+            })
+            .collect();
         Ok(Self {
             pr,
             z_s,
@@ -478,13 +496,9 @@ impl<'a> System<'a> {
             vm: pr.mean_speed,
             supply: pr.rail_speed * grid.hy * pr.inlet_film,
             film_scale: pr.inlet_film.max(1e-3 * z_s),
-            faces: (0..n).map(|k| Faces::of(grid, k, cx, cy)).collect(),
+            faces,
             dry_void,
-            intake: pr
-                .dry_area_fraction
-                .iter()
-                .map(|a| intake_share(*a))
-                .collect(),
+            intake,
             kind,
             open: vec![OnceCell::new(); n],
         })
@@ -531,7 +545,9 @@ impl<'a> System<'a> {
     /// The share θ of the film the surfaces carry to cell k that it takes in: 1 up to A_m/A_n(d_dry) =
     /// 1 − [`INTAKE_BAND`], falling linearly to 0 at A_m/A_n(d_dry) = 1 (a wall takes none). The rest is
     /// pushed aside in front of the cell and leaves the contact (counted as expelled), as the film that
-    /// a flooded inlet cannot take in is pushed aside ahead of the contact.
+    /// a flooded inlet cannot take in is pushed aside ahead of the contact. The pressure-driven flow
+    /// through a face scales with the smaller θ of its two cells, so that a cell turns into a wall
+    /// continuously as A_m/A_n(d_dry) reaches 1: it takes in nothing from any side there.
     fn intake(&self, k: usize) -> f64 {
         self.intake[k]
     }
@@ -1570,6 +1586,43 @@ mod tests {
             assert!(sol.expelled > 0.0 && sol.inflow > 0.0);
             assert!(sol.fluid_pressure.iter().any(|p| *p > 0.0));
         }
+    }
+
+    /// As a cell's A_m/A_n(d_dry) rises to 1 it turns into a wall continuously: the share θ of the carried
+    /// film it takes in and the pressure-driven flow through its faces both vanish with 1 − A_m/A_n(d_dry),
+    /// so the film approaches the one with the cell a wall, in proportion (docs/model.md §8.5). Before, the
+    /// flow through the faces did not scale: just below 1 the cell still held fluid pressed in by its
+    /// neighbours and the film jumped at 1, which kept the outer iteration of hot contacts past the onset
+    /// of the walls from converging (§9). Here the cell of the highest fluid pressure of a flooded contact is
+    /// made nearly covered (its dry state otherwise kept).
+    #[test]
+    fn a_cell_turns_into_a_wall_continuously() {
+        let mut c = Case::new(&point(0.01, 30.0, 1.0, 100e3));
+        let flooded = solve_film(&c.problem(1e-12, 200), None).unwrap();
+        let k = (0..c.grid.len())
+            .max_by(|a, b| flooded.fluid_pressure[*a].total_cmp(&flooded.fluid_pressure[*b]))
+            .unwrap();
+        assert!(flooded.fluid_pressure[k] > 0.0 && c.dry_area[k] < 0.9);
+        let mut at = |area: f64| {
+            c.dry_area[k] = area;
+            let sol = solve_film(&c.problem(1e-12, 200), None).unwrap();
+            assert!(sol.converged, "A_m/A_n(d_dry) = {area}");
+            sol
+        };
+        let wall = at(1.0);
+        assert_eq!(wall.fluid_height[k], 0.0);
+        let near: Vec<FilmSolution> = [1e-4, 1e-5, 1e-6].iter().map(|e| at(1.0 - e)).collect();
+        let gaps: Vec<f64> = near.iter().map(|s| distance(s, &wall, &c)).collect();
+        for pair in gaps.windows(2) {
+            assert!(pair[1] < 0.2 * pair[0], "{gaps:?}");
+        }
+        assert!(gaps[2] < 1e-4, "{gaps:?}");
+        // the cell's own fluid vanishes with it
+        let held: Vec<f64> = near.iter().map(|s| s.fluid_height[k]).collect();
+        assert!(
+            held[2] < 0.2 * held[1] && held[1] < 0.2 * held[0],
+            "{held:?}"
+        );
     }
 
     /// With a small GW density β = 0.04 the asperities alone carry the centre pressure of the default
