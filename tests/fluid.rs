@@ -508,3 +508,26 @@ fn a_hot_wet_contact_past_the_onset_of_the_walls_converges() {
         assert!((a - b).abs() < 1e-5, "{a} vs {b}");
     }
 }
+
+/// A table build retries a point that does not converge within the iteration limit cold with four times
+/// the limit and the same initial relaxation: this node of a 30 × 30 slice past the onset of the walls
+/// (a/b 0.72, 1.67 GPa, V 4.5 m/s, w 0.0085, full slip under spin) needs about 300 iterations from a cold
+/// start. The retry used to halve the initial relaxation, which left it (and 30 hot nodes) unconverged.
+#[test]
+fn a_table_build_retries_a_slow_point_to_convergence() {
+    let mut p = Params::default();
+    p.geometry.semi_axes = Some([4.54860892424718e-3, 6.275850651171021e-3]);
+    let pt = OperatingPoint {
+        creepage_x: 0.07353413584592298,
+        creepage_y: 0.021805602777608353,
+        spin: -0.9933723592015623,
+        normal_force: 1e5,
+        speed: 4.535487421721594,
+        wetness: 0.0085,
+    };
+    let first = solve(&p, &pt).unwrap();
+    assert!(!first.report.converged, "{:?}", first.report);
+    let retried = wheelrail::table::solve_with_retry(&p, &pt, None).unwrap();
+    assert!(retried.report.converged, "{:?}", retried.report);
+    assert!(retried.report.iterations > p.solver.max_iterations);
+}
