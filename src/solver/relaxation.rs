@@ -65,7 +65,8 @@ impl Relaxation {
     }
 
     /// Updates ω by Aitken's Δ² from the previous increment (if any; ω is kept when the increments
-    /// agree), then moves `temperature` by ω·`increment` [K].
+    /// agree) and, once switched on, the per-cell factors c_i, then moves `temperature` by
+    /// ω·c_i·`increment`_i (c_i = 1 without per-cell damping) [K].
     pub fn apply(&mut self, temperature: &mut [f64], increment: Vec<f64>) {
         if let Some(cells) = &mut self.cells {
             damp_oscillating(cells, &increment, self.previous.as_deref());
