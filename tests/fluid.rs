@@ -477,6 +477,24 @@ fn the_walls_begin_where_the_metal_covers_the_centre_at_the_dry_separation() {
     );
 }
 
+/// The 30 × 30 parameters and the wet point (w = 0.0085, 100 kN) with creepages `[ξ, η, φ]` and speed `speed`
+/// [m/s] of a node of the 1.105× p0 slice past the onset of the walls: the contact a/b 0.72 at p0 1.67 GPa
+/// (docs/model.md §12.3).
+fn past_the_onset(creepages: [f64; 3], speed: f64) -> (Params, OperatingPoint) {
+    let mut p = Params::default();
+    p.geometry.semi_axes = Some([4.54860892424718e-3, 6.275850651171021e-3]);
+    let [creepage_x, creepage_y, spin] = creepages;
+    let pt = OperatingPoint {
+        creepage_x,
+        creepage_y,
+        spin,
+        normal_force: 1e5,
+        speed,
+        wetness: 0.0085,
+    };
+    (p, pt)
+}
+
 /// Past the onset of the walls a hot wet contact's film switches within a few kelvin of one cell's
 /// temperature (the metal covers the cell or leaves it a film), and with it that cell's adhesion limit by a
 /// factor of 2.5: one relaxation factor for the whole field kept the cell in a cycle of period 4 (200
@@ -486,16 +504,14 @@ fn the_walls_begin_where_the_metal_covers_the_centre_at_the_dry_separation() {
 #[test]
 fn a_hot_wet_contact_past_the_onset_of_the_walls_converges() {
     use wheelrail::fluid::takes_in_all;
-    let mut p = Params::default();
-    p.geometry.semi_axes = Some([4.54860892424718e-3, 6.275850651171021e-3]);
-    let pt = OperatingPoint {
-        creepage_x: 0.04599881715888574,
-        creepage_y: 0.021805602777608353,
-        spin: -0.48385494361032017,
-        normal_force: 1e5,
-        speed: 11.022233191647608,
-        wetness: 0.0085,
-    };
+    let (p, pt) = past_the_onset(
+        [
+            0.04599881715888574,
+            0.021805602777608353,
+            -0.48385494361032017,
+        ],
+        11.022233191647608,
+    );
     let s = solved(&p, &pt);
     assert!(!takes_in_all(s.global.max_dry_area_fraction.unwrap()));
     assert!(s.global.max_temperature.unwrap() > 600.0);
@@ -515,16 +531,14 @@ fn a_hot_wet_contact_past_the_onset_of_the_walls_converges() {
 /// start. The retry used to halve the initial relaxation, which left it (and 30 hot nodes) unconverged.
 #[test]
 fn a_table_build_retries_a_slow_point_to_convergence() {
-    let mut p = Params::default();
-    p.geometry.semi_axes = Some([4.54860892424718e-3, 6.275850651171021e-3]);
-    let pt = OperatingPoint {
-        creepage_x: 0.07353413584592298,
-        creepage_y: 0.021805602777608353,
-        spin: -0.9933723592015623,
-        normal_force: 1e5,
-        speed: 4.535487421721594,
-        wetness: 0.0085,
-    };
+    let (p, pt) = past_the_onset(
+        [
+            0.07353413584592298,
+            0.021805602777608353,
+            -0.9933723592015623,
+        ],
+        4.535487421721594,
+    );
     let first = solve(&p, &pt).unwrap();
     assert!(!first.report.converged, "{:?}", first.report);
     let retried = wheelrail::table::solve_with_retry(&p, &pt, None).unwrap();

@@ -83,17 +83,11 @@ impl Relaxation {
                 self.omega = (-self.omega * num / den).clamp(OMEGA_RANGE.0, OMEGA_RANGE.1);
             }
         }
-        match &self.cells {
-            Some(cells) => {
-                for ((t, d), c) in temperature.iter_mut().zip(&increment).zip(cells) {
-                    *t += self.omega * c * d;
-                }
-            }
-            None => {
-                for (t, d) in temperature.iter_mut().zip(&increment) {
-                    *t += self.omega * d;
-                }
-            }
+        // (without per-cell damping c_i = 1: ω·1·Δ_i is ω·Δ_i to the bit)
+        let cells = self.cells.as_deref();
+        for (i, (t, d)) in temperature.iter_mut().zip(&increment).enumerate() {
+            let c = cells.map_or(1.0, |c| c[i]);
+            *t += self.omega * c * d;
         }
         self.previous = Some(increment);
     }
@@ -165,7 +159,7 @@ mod tests {
             ]
         };
         let fixed = [10.0, 10.0, 2.0 / 0.7];
-        // the largest increment after `n` updates from T = (12, 0, 0), with or without per-cell damping
+        // the temperatures after `n` updates from T = (12, 0, 0), with or without per-cell damping
         let run = |per_cell: bool, n: usize| {
             let mut r = Relaxation::new(1.0);
             if per_cell {
