@@ -802,6 +802,11 @@ fn verify_passes_a_good_table_and_fails_a_stale_one() {
         info.contains("[N] Log") && info.contains("[m/s] Linear") && info.contains("[-] Cubic"),
         "{info}"
     );
+    // and the variable T_max is interpolated in (the default steel's)
+    assert!(
+        info.contains("T_max           interpolated as G = (T - T0)/sqrt(sigma_y(T)/sigma_y(T0))"),
+        "{info}"
+    );
 
     // stale: the arrays of k_wet = 0.4 presented as k_wet = 0.3 (boundary-lubrication failure stress),
     // sidecar consistent (fingerprint recomputed)

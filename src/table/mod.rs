@@ -9,7 +9,8 @@
 //!   onset of boundary lubrication in full slip: tables for wet running store both signs).
 //! - Stored outputs (see [`file::OUTPUT_INFO`]): F_x/F_N, F_y/F_N, M_z/(F_N·c) with c = sqrt(a·b), T_max,
 //!   fluid load fraction, and a converged flag per point. The traction coefficient is |F_T|/F_N of the
-//!   interpolated forces (the solver's definition, P2).
+//!   interpolated forces (the solver's definition, P2); T_max is interpolated as the variable G of
+//!   [`rise`] (the rise over the root of the relative yield stress).
 //! - [`Table::evaluate`] of an operating point and its contact ellipse ([`Ellipse`]): well under a
 //!   microsecond (AVX2 + FMA kernel, [`Kernel`]), no allocation; [`Table::evaluate_with_jacobian`] adds the
 //!   exact derivatives of the interpolant for FMU directional derivatives.
@@ -20,6 +21,7 @@ pub mod build;
 pub mod coords;
 pub mod file;
 pub mod interp;
+pub mod rise;
 pub mod verify;
 
 pub use axes::{Axes, AxesSpec, Axis, AxisSpec, DIMENSIONS, DIMS, Interpolation, Spacing};
@@ -35,6 +37,7 @@ use crate::params::{OperatingPoint, Params};
 use crate::solver::{GlobalResults, Solution, SolverReport};
 use axes::{ETA, FORCE, LINEAR_DIMS, PHI, PRESSURE, RATIO, SPEED, WET, XI};
 use interp::{AxisInterp, CORNERS, Corners, Fraction, Offsets};
+use rise::RiseVariable;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock, Weak};
@@ -220,6 +223,8 @@ pub struct Table {
     /// Whether lookups prefetch the rows of the next ξ̂ window node (tables larger than `PREFETCH_ABOVE`).
     prefetch: bool,
     bulk_temperature: f64,
+    /// The variable T_max is interpolated in: `rows` hold G(T_max) ([`RiseVariable`]).
+    rise: RiseVariable,
     /// The table's coordinates of operating points.
     coordinates: Coordinates,
     /// Whether the table stores the frictional power (format version 2).
@@ -264,12 +269,15 @@ impl Table {
         let strides = memory_strides(&shape);
         // the file's C order over the axes → memory order
         let memory: Vec<usize> = (0..n).map(|i| memory_index(&shape, &strides, i)).collect();
+        let rise = RiseVariable::new(&files.sidecar.params.material);
         let mut rows = vec![Row::default(); n];
         let mut converged = vec![0; n];
         for (i, m) in memory.iter().enumerate() {
             for (o, v) in VAL.iter().enumerate() {
                 rows[*m].0[*v] = files.outputs[o][i];
             }
+            // T_max is interpolated as G(T_max) (`rise`)
+            rows[*m].0[VAL[3]] = rise.of(f64::from(files.outputs[3][i])) as f32;
             converged[*m] = files.converged[i];
         }
         // Steffen slopes along φ of every fibre (fixed ξ̂, η̂, F_N, V, w, a/b, p_ref; contiguous in memory)
@@ -303,6 +311,7 @@ impl Table {
         Ok(Table {
             unresolved,
             bulk_temperature: files.sidecar.params.material.bulk_temperature,
+            rise,
             coordinates: Coordinates::new(&files.sidecar.params, &axes),
             has_power: files.sidecar.format_version > 1,
             all_converged: converged.iter().all(|c| *c == 1),
@@ -377,12 +386,22 @@ impl Table {
             let stored = self.rows[memory_index(&self.axes.shape(), &self.strides, n)].0;
             let stale = (0..OUTPUTS).find(|&o| {
                 let (a, b) = (f64::from(want[o]), f64::from(stored[VAL[o]]));
+                // T_max compared as the stored G(T_max), its tolerance scaled by dG/dT
+                let (a, scale) = if o == 3 {
+                    (self.rise.of(a), self.rise.slope(a))
+                } else {
+                    (a, 1.0)
+                };
                 // a format-1 table stores no frictional power (NaN)
-                let within = (a - b).abs() <= self.probe_tolerance(o);
+                let within = (a - b).abs() <= scale * self.probe_tolerance(o);
                 let absent = b.is_nan() && o == OUTPUTS - 1;
                 !(within || absent)
             });
             if let Some(o) = stale {
+                let stored = match o {
+                    3 => self.rise.temperature(f64::from(stored[VAL[3]])).0,
+                    _ => f64::from(stored[VAL[o]]),
+                };
                 return Err(Error::Table {
                     path: self.location(),
                     reason: format!(
@@ -393,7 +412,7 @@ impl Table {
                         e.a,
                         e.b,
                         OUTPUT_INFO[o].name,
-                        stored[VAL[o]],
+                        stored,
                         want[o],
                         PROBE_TOLERANCE[o]
                     ),
@@ -655,13 +674,14 @@ impl Table {
         }
         let f = point.normal_force;
         let c = e.radius();
+        let (max_temperature, dt_dg) = self.rise.temperature(core.v[3]);
         let out = TableOutput {
             force_x: f * g[0],
             force_y: f * g[1],
             spin_moment: f * c * g[2],
             // (|g| ≤ a few: no overflow to guard against, as hypot does at 5× the cost)
             traction_coefficient: (g[0] * g[0] + g[1] * g[1]).sqrt(),
-            max_temperature: core.v[3].max(self.bulk_temperature),
+            max_temperature: max_temperature.max(self.bulk_temperature),
             fluid_load_fraction: core.v[4].clamp(0.0, 1.0),
             frictional_power: self
                 .has_power
@@ -695,7 +715,7 @@ impl Table {
                 dg[o][FORCE + 2] = dq[o][WET];
             }
             let f_t = out.traction_coefficient;
-            let t_free = core.v[3] > self.bulk_temperature;
+            let t_free = max_temperature > self.bulk_temperature;
             let l_free = core.v[4] > 0.0 && core.v[4] < 1.0;
             for d in 0..INPUTS {
                 jac[0][d] = f * dg[0][d];
@@ -704,7 +724,7 @@ impl Table {
                 if f_t > 0.0 {
                     jac[3][d] = (g[0] * dg[0][d] + g[1] * dg[1][d]) / f_t;
                 }
-                jac[4][d] = if t_free { dg[3][d] } else { 0.0 };
+                jac[4][d] = if t_free { dt_dg * dg[3][d] } else { 0.0 };
                 jac[5][d] = if l_free { dg[4][d] } else { 0.0 };
             }
             // the normalisation's own F_N dependence: F = F_N·g, M = F_N·c·g, c ∝ F_N^e
@@ -1358,24 +1378,39 @@ mod tests {
         symmetric_multilinear(&l)
     }
 
+    /// `f` with its T_max output read as the variable G that tables interpolate T_max in ([`rise`]): the
+    /// table of the wrapped function stores T_max = G⁻¹(f's value), whose G is then the data class the
+    /// interpolant reproduces (f's values 300–400 K as G are T_max of about 600–700 K, through the
+    /// yield-stress anomaly).
+    fn in_rise(
+        params: &Params,
+        f: impl Fn(&[f64; DIMS]) -> [f64; OUTPUTS],
+    ) -> impl Fn(&[f64; DIMS]) -> [f64; OUTPUTS] {
+        let rise = RiseVariable::new(&params.material);
+        move |c| {
+            let mut v = f(c);
+            v[3] = rise.temperature(v[3]).0;
+            v
+        }
+    }
+
     #[test]
     fn interpolant_reproduces_symmetric_multilinear_functions_and_their_derivatives() {
         let params = coarse_params();
+        let f = in_rise(&params, symmetric_multilinear);
         for axes in [tiny_axes(), blended(tiny_axes())] {
-            reproduces(
-                &synthetic(&axes, &params, &symmetric_multilinear),
-                &symmetric_multilinear,
-            );
+            reproduces(&synthetic(&axes, &params, &f), &f);
         }
         // log axes: exact for data multilinear in the logarithms (and not for data multilinear in x)
-        let f = symmetric_multilinear_in_logs;
-        let log = synthetic(&logarithmic(tiny_axes()), &params, &f);
-        reproduces(&log, &f);
-        let t = synthetic(&logarithmic(tiny_axes()), &params, &symmetric_multilinear);
+        let f_log = in_rise(&params, symmetric_multilinear_in_logs);
+        let log = synthetic(&logarithmic(tiny_axes()), &params, &f_log);
+        reproduces(&log, &f_log);
+        let t = synthetic(&logarithmic(tiny_axes()), &params, &f);
         let c = [0.0, 0.0, 0.0, 75e3, 10.0, 0.5, 0.5, 0.7e9];
         let (p, e) = at(&t, &c, 0.0);
-        // T = 300 + 50·(1 + 2e-6·F_N + …): F_N interpolated at ln(1.5)/ln(2) of its cell, not at 1/2
-        let off = t.evaluate(&p, &e).unwrap().max_temperature - symmetric_multilinear(&c)[3];
+        // G = 300 + 50·(1 + 2e-6·F_N + …): F_N interpolated at ln(1.5)/ln(2) of its cell, not at 1/2
+        let off =
+            t.rise.of(t.evaluate(&p, &e).unwrap().max_temperature) - symmetric_multilinear(&c)[3];
         assert!(
             (off - 50.0 * 2e-6 * 50e3 * (1.5f64.ln() / 2f64.ln() - 0.5)).abs() < 1e-4,
             "{off}"
@@ -1413,10 +1448,10 @@ mod tests {
                 let (pp, pm) = (exact(h), exact(-h));
                 for o in 0..JACOBIAN_ROWS {
                     let fd = (pp[o] - pm[o]) / (2.0 * h);
-                    let scale = [force, force, force * e.radius(), 1.0, 300.0, 1.0][o]
+                    let scale = [force, force, force * e.radius(), 1.0, 700.0, 1.0][o]
                         / [0.05, 0.02, 1.0, 1e5, 20.0, 1.0][d];
                     // the node values are stored in f32: their rounding (relative 6e-8) over node
-                    // spacings
+                    // spacings (T_max of 600–700 K, rounded as stored and as G in memory)
                     assert!(
                         (j[o][d] - fd).abs() < 1e-4 * (fd.abs() + 1e-2 * scale),
                         "∂{o}/∂{d} at {c:?} (e {exponent}): {} vs {fd}",
@@ -1658,9 +1693,13 @@ mod tests {
         axes.0[XI].points = vec![0.0, 0.2, 0.6, 2.0, 6.0, 10.0];
         let t = synthetic(&axes, &params, &symmetric_saturating);
         let shape = axes.shape();
-        // the stored (f32) node values
+        // the stored (f32) node values, T_max as G(T_max) in f32 (`rise`)
         let vals: Vec<[f64; OUTPUTS]> = (0..axes.len())
-            .map(|k| symmetric_saturating(&axes.coordinates(k)).map(|v| f64::from(v as f32)))
+            .map(|k| {
+                let mut v = symmetric_saturating(&axes.coordinates(k)).map(|v| f64::from(v as f32));
+                v[3] = f64::from(t.rise.of(v[3]) as f32);
+                v
+            })
             .collect();
         let idx = |m: [usize; DIMS]| m.iter().zip(&shape).fold(0, |a, (i, s)| a * s + i);
         let phi = &axes.0[PHI].points;

@@ -595,6 +595,14 @@ fn info(dir: &Path) -> Result<()> {
         bytes as f64 / 1e6
     );
     println!(
+        "  T_max           interpolated as {} (docs/model.md §12.3)",
+        if wheelrail::table::rise::RiseVariable::new(&s.params.material).is_plain() {
+            "T_max itself (G = (T - T0)/sqrt(sigma_y(T)/sigma_y(T0)) does not rise with T for this material)"
+        } else {
+            "G = (T - T0)/sqrt(sigma_y(T)/sigma_y(T0))"
+        }
+    );
+    println!(
         "  built           {} in {:.1} s on {} threads{}",
         s.build.date,
         s.build.duration_seconds,
