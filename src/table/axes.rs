@@ -871,8 +871,10 @@ mod tests {
         }
     }
 
-    /// The axes files under `tools/` are valid: the committed default table's, and the running-surface
-    /// contacts' by similarity (docs/model.md §12.3), with the point counts their comments give.
+    /// The axes files under `tools/` are valid: the committed default table's, and the running-surface and
+    /// the whole-range contacts' by similarity (docs/model.md §12.3), with the point counts and ranges their
+    /// comments give (the whole range: issue 13's a/b 0.2–5 and p0 0.15–2.5 GPa, 1.5× per p0 cell up to
+    /// 0.76 GPa and at most 1.105× above).
     #[test]
     fn the_axes_files_of_the_tools_folder_are_valid() {
         let tools = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tools");
@@ -881,6 +883,19 @@ mod tests {
         let surface = Axes::from_toml_file(&tools.join("running-surface-axes.toml")).unwrap();
         assert_eq!((surface.len(), surface.similarity()), (4_596_480, true));
         assert_eq!(surface.0[FORCE].points, [REFERENCE_FORCE]);
+        let whole = Axes::from_toml_file(&tools.join("whole-range-axes.toml")).unwrap();
+        assert_eq!((whole.len(), whole.similarity()), (31_256_064, true));
+        assert_eq!((whole.0[RATIO].min(), whole.0[RATIO].max()), (0.2, 5.0));
+        let p0 = &whole.0[PRESSURE].points;
+        assert_eq!((p0[0], p0[p0.len() - 1]), (0.15e9, 2.5e9));
+        for w in p0.windows(2) {
+            let limit = if w[1] <= 0.76e9 { 1.5 + 1e-9 } else { 1.105 };
+            assert!(w[1] / w[0] <= limit, "{w:?}");
+        }
+        // the same creepage, speed and wetness axes as the running surface's
+        for d in [XI, ETA, PHI, SPEED, WET] {
+            assert_eq!(whole.0[d], surface.0[d], "{d}");
+        }
     }
 
     #[test]
