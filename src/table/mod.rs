@@ -399,7 +399,7 @@ impl Table {
             });
             if let Some(o) = stale {
                 let stored = match o {
-                    3 => self.rise.temperature(f64::from(stored[VAL[3]])).0,
+                    3 => self.rise.temperature(f64::from(stored[VAL[3]])),
                     _ => f64::from(stored[VAL[o]]),
                 };
                 return Err(Error::Table {
@@ -674,7 +674,7 @@ impl Table {
         }
         let f = point.normal_force;
         let c = e.radius();
-        let (max_temperature, dt_dg) = self.rise.temperature(core.v[3]);
+        let max_temperature = self.rise.temperature(core.v[3]);
         let out = TableOutput {
             force_x: f * g[0],
             force_y: f * g[1],
@@ -716,6 +716,7 @@ impl Table {
             }
             let f_t = out.traction_coefficient;
             let t_free = max_temperature > self.bulk_temperature;
+            let dt_dg = self.rise.temperature_slope(core.v[3]);
             let l_free = core.v[4] > 0.0 && core.v[4] < 1.0;
             for d in 0..INPUTS {
                 jac[0][d] = f * dg[0][d];
@@ -1389,7 +1390,7 @@ mod tests {
         let rise = RiseVariable::new(&params.material);
         move |c| {
             let mut v = f(c);
-            v[3] = rise.temperature(v[3]).0;
+            v[3] = rise.temperature(v[3]);
             v
         }
     }

@@ -61,10 +61,13 @@ impl RiseVariable {
             nodes: Vec::new(),
         };
         let steps = (RISE_RANGE / CHECK_STEP) as usize;
+        let mut last = 0.0;
         let rising = yield_t0 > 0.0
             && (1..=steps).all(|k| {
-                let t = t0 + k as f64 * CHECK_STEP;
-                v.of(t) > v.of(t - CHECK_STEP)
+                let g = v.of(t0 + k as f64 * CHECK_STEP);
+                let up = g > last;
+                last = g;
+                up
             });
         if !rising {
             v.yield_t0 = 0.0;
@@ -96,59 +99,89 @@ impl RiseVariable {
         (self.of(t + H) - self.of(t - H)) / (2.0 * H)
     }
 
-    /// The grid of the inverse: uniform in G over [0, G(T0 + RISE_RANGE)], each node's T by bisection.
+    /// The grid of the inverse: uniform in G over [0, G(T0 + RISE_RANGE)], each node's T by Newton's method
+    /// from the previous node's tangent (G rises strictly: the root lies in [previous T, T0 + RISE_RANGE]; a
+    /// step that leaves the bracket bisects it instead), to 1e-12 of the node's G.
     fn tabulate_inverse(&mut self) {
         let top = self.of(self.t0 + RISE_RANGE);
         self.step = top / INTERVALS as f64;
         self.inv_step = 1.0 / self.step;
-        let mut lo = self.t0;
-        self.nodes = (0..=INTERVALS)
-            .map(|i| {
-                let g = i as f64 * self.step;
-                let mut hi = self.t0 + RISE_RANGE;
-                for _ in 0..64 {
-                    let mid = 0.5 * (lo + hi);
-                    if self.of(mid) < g {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
+        let mut node = [self.t0, 1.0 / self.slope(self.t0)];
+        self.nodes = Vec::with_capacity(INTERVALS + 1);
+        self.nodes.push(node);
+        for i in 1..=INTERVALS {
+            let g = i as f64 * self.step;
+            let (mut lo, mut hi) = (node[0], self.t0 + RISE_RANGE);
+            let mut t = (node[0] + self.step * node[1]).clamp(lo, hi);
+            for _ in 0..100 {
+                let r = self.of(t) - g;
+                if r.abs() <= 1e-12 * g {
+                    break;
                 }
-                let t = if i == 0 { self.t0 } else { 0.5 * (lo + hi) };
-                [t, 1.0 / self.slope(t)]
-            })
-            .collect();
+                if r < 0.0 {
+                    lo = t;
+                } else {
+                    hi = t;
+                }
+                let next = t - r / self.slope(t);
+                t = if next > lo && next < hi {
+                    next
+                } else {
+                    0.5 * (lo + hi)
+                };
+            }
+            node = [t, 1.0 / self.slope(t)];
+            self.nodes.push(node);
+        }
     }
 
-    /// T = G⁻¹(g) [K] and dT/dG [-]: cubic Hermite on the grid, continued linearly beyond it (below 0 with
-    /// the slope at T0, above with the slope at the top).
+    /// Where `g` lies on the grid of the inverse: the interval and the fraction s ∈ [0, 1] in it, or the end
+    /// node and the distance beyond it [K] (G ≤ 0 and NaN, which an interpolated value never is: the line
+    /// through T0; G above the grid: the line through its top).
     #[inline]
-    pub fn temperature(&self, g: f64) -> (f64, f64) {
+    fn locate(&self, g: f64) -> Result<(usize, f64), ([f64; 2], f64)> {
         let x = g * self.inv_step;
         let last = self.nodes.len() - 1;
-        // at or below G = 0 (and NaN, which an interpolated value never is): the line through T0
         if x <= 0.0 || x.is_nan() {
-            let [t, m] = self.nodes[0];
-            return (t + g * m, m);
+            Err((self.nodes[0], g))
+        } else if x >= last as f64 {
+            Err((self.nodes[last], g - last as f64 * self.step))
+        } else {
+            let i = x as usize;
+            Ok((i, x - i as f64))
         }
-        if x >= last as f64 {
-            let [t, m] = self.nodes[last];
-            return (t + (g - last as f64 * self.step) * m, m);
+    }
+
+    /// T = G⁻¹(g) [K]: cubic Hermite on the grid, continued linearly beyond it.
+    #[inline]
+    pub fn temperature(&self, g: f64) -> f64 {
+        match self.locate(g) {
+            Err(([t, m], beyond)) => t + beyond * m,
+            Ok((i, s)) => {
+                let ([t0, m0], [t1, m1]) = (self.nodes[i], self.nodes[i + 1]);
+                let (s2, h) = (s * s, self.step);
+                let s3 = s2 * s;
+                (2.0 * s3 - 3.0 * s2 + 1.0) * t0
+                    + (s3 - 2.0 * s2 + s) * h * m0
+                    + (3.0 * s2 - 2.0 * s3) * t1
+                    + (s3 - s2) * h * m1
+            }
         }
-        let i = x as usize;
-        let s = x - i as f64;
-        let ([t0, m0], [t1, m1]) = (self.nodes[i], self.nodes[i + 1]);
-        let h = self.step;
-        let s2 = s * s;
-        let s3 = s2 * s;
-        let t = (2.0 * s3 - 3.0 * s2 + 1.0) * t0
-            + (s3 - 2.0 * s2 + s) * h * m0
-            + (3.0 * s2 - 2.0 * s3) * t1
-            + (s3 - s2) * h * m1;
-        let dt = (6.0 * s2 - 6.0 * s) * (t0 - t1) * self.inv_step
-            + (3.0 * s2 - 4.0 * s + 1.0) * m0
-            + (3.0 * s2 - 2.0 * s) * m1;
-        (t, dt)
+    }
+
+    /// dT/dG of [`RiseVariable::temperature`] at `g` [-].
+    #[inline]
+    pub fn temperature_slope(&self, g: f64) -> f64 {
+        match self.locate(g) {
+            Err(([_, m], _)) => m,
+            Ok((i, s)) => {
+                let ([t0, m0], [t1, m1]) = (self.nodes[i], self.nodes[i + 1]);
+                let s2 = s * s;
+                (6.0 * s2 - 6.0 * s) * (t0 - t1) * self.inv_step
+                    + (3.0 * s2 - 4.0 * s + 1.0) * m0
+                    + (3.0 * s2 - 2.0 * s) * m1
+            }
+        }
     }
 }
 
@@ -173,7 +206,7 @@ mod tests {
         let (mut worst, mut at_kink): (f64, f64) = (0.0, 0.0);
         for k in 0..=40_000 {
             let t = t0 + 0.05 * k as f64;
-            let (back, dt) = v.temperature(v.of(t));
+            let (back, dt) = (v.temperature(v.of(t)), v.temperature_slope(v.of(t)));
             if (t - kink).abs() < 1.0 {
                 at_kink = at_kink.max((back - t).abs());
                 continue;
@@ -215,7 +248,7 @@ mod tests {
         assert!(v.is_plain());
         for t in [m.bulk_temperature, 500.0, 900.0, 4000.0] {
             assert!((v.of(t) - (t - m.bulk_temperature)).abs() < 1e-12);
-            let (back, dt) = v.temperature(v.of(t));
+            let (back, dt) = (v.temperature(v.of(t)), v.temperature_slope(v.of(t)));
             assert!(
                 (back - t).abs() < 1e-9 && (dt - 1.0).abs() < 1e-9,
                 "{t}: {back}, {dt}"
@@ -251,7 +284,7 @@ mod tests {
         for (v0, v1) in [(4.5, 11.0), (26.8, 65.1)] {
             let (t0, t1, mid) = (t_max(v0), t_max(v1), t_max(0.5 * (v0 + v1)));
             let plain = 0.5 * (t0 + t1) - mid;
-            let through_g = v.temperature(0.5 * (v.of(t0) + v.of(t1))).0 - mid;
+            let through_g = v.temperature(0.5 * (v.of(t0) + v.of(t1))) - mid;
             assert!(
                 through_g.abs() < 0.5 * plain.abs() && through_g.abs() < 8.0,
                 "{v0}–{v1} m/s: T_max {t0:.1}/{mid:.1}/{t1:.1} K, interpolated {plain:.1} K off, \
