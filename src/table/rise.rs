@@ -16,7 +16,7 @@
 //! powers 0.25, 0.5, 0.75, 1 tried, ½ best on both): T_max p99 6.4–6.6 K against 6.8–7.6 K at 4.5–11 m/s,
 //! 8.9–9.8 K against 15.6–16.5 K at 26.8–65 m/s; the forces do not change.
 //!
-//! G must rise strictly with T to be inverted. It does for the default steel (σ_y rises by at most 0.07 %
+//! G must rise strictly with T to be inverted. It does for the default steel (σ_y rises by at most 0.11 %
 //! per kelvin in the anomaly); a material whose anomaly is so steep that G falls somewhere is interpolated in
 //! T itself (G = T − T0, [`RiseVariable::is_plain`]).
 
