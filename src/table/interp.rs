@@ -597,7 +597,6 @@ impl AxisInterp {
     pub fn cubic(&self, x: f64) -> CubicStencil {
         let (i, t) = self.locate(x);
         let c = &self.cubic[i];
-        let t2 = t * t;
         CubicStencil {
             start: c.start,
             a: c.a,
@@ -606,20 +605,34 @@ impl AxisInterp {
             first: c.first,
             last: c.last,
             mix: c.mix,
-            basis: [
-                1.0 + t2 * (2.0 * t - 3.0),
-                t * (1.0 + t * (t - 2.0)),
-                t2 * (3.0 - 2.0 * t),
-                t2 * (t - 1.0),
-            ],
-            dbasis: [
-                6.0 * t * (t - 1.0),
-                1.0 + t * (3.0 * t - 4.0),
-                6.0 * t * (1.0 - t),
-                t * (3.0 * t - 2.0),
-            ],
+            basis: hermite_basis(t),
+            dbasis: hermite_basis_slope(t),
         }
     }
+}
+
+/// The cubic Hermite basis h00, h10, h01, h11 at t ∈ [0, 1]: the weights of the values at the interval's
+/// ends and of their slopes (times the interval's length).
+#[inline(always)]
+pub(crate) fn hermite_basis(t: f64) -> [f64; 4] {
+    let t2 = t * t;
+    [
+        1.0 + t2 * (2.0 * t - 3.0),
+        t * (1.0 + t * (t - 2.0)),
+        t2 * (3.0 - 2.0 * t),
+        t2 * (t - 1.0),
+    ]
+}
+
+/// The t-derivatives of [`hermite_basis`].
+#[inline(always)]
+pub(crate) fn hermite_basis_slope(t: f64) -> [f64; 4] {
+    [
+        6.0 * t * (t - 1.0),
+        1.0 + t * (3.0 * t - 4.0),
+        6.0 * t * (1.0 - t),
+        t * (3.0 * t - 2.0),
+    ]
 }
 
 #[cfg(test)]

@@ -20,6 +20,7 @@
 //! per kelvin in the anomaly); a material whose anomaly is so steep that G falls somewhere is interpolated in
 //! T itself (G = T − T0, [`RiseVariable::is_plain`]).
 
+use super::interp::{hermite_basis, hermite_basis_slope};
 use crate::params::Material;
 
 /// Range of temperature rises the inverse is tabulated over [K]; beyond it the inverse continues linearly.
@@ -159,12 +160,8 @@ impl RiseVariable {
             Err(([t, m], beyond)) => t + beyond * m,
             Ok((i, s)) => {
                 let ([t0, m0], [t1, m1]) = (self.nodes[i], self.nodes[i + 1]);
-                let (s2, h) = (s * s, self.step);
-                let s3 = s2 * s;
-                (2.0 * s3 - 3.0 * s2 + 1.0) * t0
-                    + (s3 - 2.0 * s2 + s) * h * m0
-                    + (3.0 * s2 - 2.0 * s3) * t1
-                    + (s3 - s2) * h * m1
+                let [h00, h10, h01, h11] = hermite_basis(s);
+                h00 * t0 + h01 * t1 + self.step * (h10 * m0 + h11 * m1)
             }
         }
     }
@@ -176,10 +173,8 @@ impl RiseVariable {
             Err(([_, m], _)) => m,
             Ok((i, s)) => {
                 let ([t0, m0], [t1, m1]) = (self.nodes[i], self.nodes[i + 1]);
-                let s2 = s * s;
-                (6.0 * s2 - 6.0 * s) * (t0 - t1) * self.inv_step
-                    + (3.0 * s2 - 4.0 * s + 1.0) * m0
-                    + (3.0 * s2 - 2.0 * s) * m1
+                let [d00, d10, d01, d11] = hermite_basis_slope(s);
+                (d00 * t0 + d01 * t1) * self.inv_step + d10 * m0 + d11 * m1
             }
         }
     }
