@@ -807,6 +807,10 @@ fn verify_passes_a_good_table_and_fails_a_stale_one() {
         info.contains("T_max           interpolated as G = (T - T0)/sqrt(sigma_y(T)/sigma_y(T0))"),
         "{info}"
     );
+    assert!(
+        info.contains("interpolated per unit of FASTSIM's direction factor L/L1"),
+        "{info}"
+    );
 
     // stale: the arrays of k_wet = 0.4 presented as k_wet = 0.3 (boundary-lubrication failure stress),
     // sidecar consistent (fingerprint recomputed)

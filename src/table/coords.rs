@@ -23,9 +23,10 @@
 //!   (p_ref of the equivalent is its p0), and the raw limits apply to the equivalent's creepages.
 
 use super::axes::{Axes, DIMS, REFERENCE_FORCE};
+use super::heating::{FlexibilityRatios, Heating};
 use crate::error::Result;
 use crate::params::{OperatingPoint, Params};
-use crate::tangential::kalker_coefficients;
+use crate::tangential::{Flexibilities, KalkerCoefficients, kalker_coefficients};
 use std::f64::consts::PI;
 
 /// The knee s of knee-blended creepage coordinates: the linear theory's traction coefficient ξ̂ about
@@ -47,6 +48,9 @@ pub struct Coordinates {
     poisson: f64,
     /// Whether a contact is located by its equivalent at the reference load (docs/model.md §9.1).
     similarity: bool,
+    /// Whether the heat is interpolated per unit of FASTSIM's direction factor Λ ([`super::heating`]):
+    /// tables of FASTSIM.
+    heating: bool,
 }
 
 /// Where a query lies in a table's coordinates, and how its coordinates move with its inputs.
@@ -62,6 +66,11 @@ pub struct Located {
     pub dv: f64,
     /// The raw creepages the axes' raw limits apply to (with similarity: the equivalent's, φ·s).
     pub raw: [f64; 3],
+    /// The direction factor Λ of the frictional heat [-] ([`super::heating`]; 1 for tables of the exact
+    /// tangential solver).
+    pub heating: f64,
+    /// ∂Λ/∂(ξ, η, φ, ln F_N) of the query's inputs [-, -, m, -].
+    pub dheating: [f64; 4],
 }
 
 /// A creepage coordinate q(x, k) and its slopes: ∂q/∂x and k·∂q/∂k (the change with ln k).
@@ -206,6 +215,7 @@ impl Coordinates {
             shear_modulus: m.shear_modulus,
             poisson: m.poisson,
             similarity: axes.similarity(),
+            heating: super::heating::applies(params),
         }
     }
 
@@ -233,9 +243,35 @@ impl Coordinates {
             return Ok([1.0; 3]);
         }
         let k = kalker_coefficients(e.a, e.b, self.poisson)?;
+        Ok(self.scales_of(e, force, &k))
+    }
+
+    /// [`Coordinates::scales`] with the contact's Kalker coefficients `k` already computed.
+    #[inline(always)]
+    fn scales_of(&self, e: &Ellipse, force: f64, k: &KalkerCoefficients) -> [f64; 3] {
+        if !self.normalised {
+            return [1.0; 3];
+        }
         let c = e.radius();
         let gc2 = self.shear_modulus * c * c / force;
-        Ok([gc2 * k.c11, gc2 * k.c22, gc2 * c * k.c23])
+        [gc2 * k.c11, gc2 * k.c22, gc2 * c * k.c23]
+    }
+
+    /// The flexibility ratios L2/L1, L3/L1 of contact `e` that its direction factor Λ weighs η and c·φ with
+    /// ([`super::heating`]), or None for tables of the exact tangential solver (Λ = 1). Errors: semi-axes
+    /// that are not positive.
+    pub fn flexibility_ratios(&self, e: &Ellipse) -> Result<Option<FlexibilityRatios>> {
+        if !self.heating {
+            return Ok(None);
+        }
+        let k = kalker_coefficients(e.a, e.b, self.poisson)?;
+        Ok(Some(self.ratios_of(e, &k)))
+    }
+
+    /// [`Coordinates::flexibility_ratios`] with the Kalker coefficients `k` of contact `e`.
+    #[inline(always)]
+    fn ratios_of(&self, e: &Ellipse, k: &KalkerCoefficients) -> FlexibilityRatios {
+        FlexibilityRatios::of(&Flexibilities::new(e.a, e.b, self.shear_modulus, k))
     }
 
     /// Whether contacts are located by their equivalents at the reference load (docs/model.md §9.1).
@@ -287,8 +323,30 @@ impl Coordinates {
             b: e.b / s,
             load_exponent: e.load_exponent,
         };
-        let k = self.scales(&equivalent, force)?;
+        let kalker = (self.normalised || self.heating)
+            .then(|| kalker_coefficients(equivalent.a, equivalent.b, self.poisson))
+            .transpose()?;
+        let k = kalker.map_or([1.0; 3], |kc| self.scales_of(&equivalent, force, &kc));
         let raw = [point.creepage_x, point.creepage_y, point.spin * s];
+        // Λ of the equivalent, whose c·φ·s/s is the contact's own z = c·φ (Λ is the contact's): z grows
+        // with F_N like c, ∝ F_N^e
+        let z = equivalent.radius() * raw[2];
+        let (heating, dheating) = match kalker.filter(|_| self.heating) {
+            Some(kc) => {
+                let h = self.ratios_of(&equivalent, &kc).at(raw[0], raw[1], z);
+                let dz = h.slope[2];
+                (
+                    h.value,
+                    [
+                        h.slope[0],
+                        h.slope[1],
+                        dz * equivalent.radius() * s,
+                        dz * z * e.load_exponent,
+                    ],
+                )
+            }
+            None => (Heating::ONE.value, [0.0; 4]),
+        };
         let mut m = [
             self.map(0, raw[0], k[0]),
             self.map(1, raw[1], k[1]),
@@ -325,6 +383,8 @@ impl Coordinates {
             dlnf,
             dv: s,
             raw,
+            heating,
+            dheating,
         })
     }
 

@@ -10,7 +10,8 @@
 //! - Stored outputs (see [`file::OUTPUT_INFO`]): F_x/F_N, F_y/F_N, M_z/(F_N·c) with c = sqrt(a·b), T_max,
 //!   fluid load fraction, and a converged flag per point. The traction coefficient is |F_T|/F_N of the
 //!   interpolated forces (the solver's definition, P2); T_max is interpolated as the variable G of
-//!   [`rise`] (the rise over the root of the relative yield stress).
+//!   [`rise`] (the rise over the root of the relative yield stress), and G and P_f/(F_N·V) per unit of
+//!   FASTSIM's direction factor Λ of [`heating`] (which has kinks at η = 0 and φ = 0).
 //! - [`Table::evaluate`] of an operating point and its contact ellipse ([`Ellipse`]): well under a
 //!   microsecond (AVX2 + FMA kernel, [`Kernel`]), no allocation; [`Table::evaluate_with_jacobian`] adds the
 //!   exact derivatives of the interpolant for FMU directional derivatives.
@@ -20,6 +21,7 @@ pub mod axes;
 pub mod build;
 pub mod coords;
 pub mod file;
+pub mod heating;
 pub mod interp;
 pub mod rise;
 pub mod verify;
@@ -270,15 +272,29 @@ impl Table {
         // the file's C order over the axes → memory order
         let memory: Vec<usize> = (0..n).map(|i| memory_index(&shape, &strides, i)).collect();
         let rise = RiseVariable::new(&files.sidecar.params.material);
+        let coordinates = Coordinates::new(&files.sidecar.params, &axes);
+        let heating = heating::NodeFactors::new(&coordinates, &axes)?;
         let mut rows = vec![Row::default(); n];
         let mut converged = vec![0; n];
+        // the node's indices along the axes (the files' C order: the last axis fastest)
+        let mut idx = [0; DIMS];
         for (i, m) in memory.iter().enumerate() {
             for (o, v) in VAL.iter().enumerate() {
                 rows[*m].0[*v] = files.outputs[o][i];
             }
-            // T_max is interpolated as G(T_max) (`rise`)
-            rows[*m].0[VAL[3]] = rise.of(f64::from(files.outputs[3][i])) as f32;
+            // T_max is interpolated as G(T_max) (`rise`), the heat G and P_f/(F_N·V) per unit of the
+            // direction factor Λ (`heating`)
+            let lambda = heating.as_ref().map_or(1.0, |h| h.at(&idx));
+            rows[*m].0[VAL[3]] = (rise.of(f64::from(files.outputs[3][i])) / lambda) as f32;
+            rows[*m].0[VAL[5]] = (f64::from(files.outputs[5][i]) / lambda) as f32;
             converged[*m] = files.converged[i];
+            for d in (0..DIMS).rev() {
+                idx[d] += 1;
+                if idx[d] < shape[d] {
+                    break;
+                }
+                idx[d] = 0;
+            }
         }
         // Steffen slopes along φ of every fibre (fixed ξ̂, η̂, F_N, V, w, a/b, p_ref; contiguous in memory)
         // and output, computed in f64 from the stored values and kept in the stored precision (f32)
@@ -312,7 +328,7 @@ impl Table {
             unresolved,
             bulk_temperature: files.sidecar.params.material.bulk_temperature,
             rise,
-            coordinates: Coordinates::new(&files.sidecar.params, &axes),
+            coordinates,
             has_power: files.sidecar.format_version > 1,
             all_converged: converged.iter().all(|c| *c == 1),
             converged,
@@ -383,7 +399,11 @@ impl Table {
             params.geometry.semi_axes = Some([e.a, e.b]);
             let s = crate::solver::solve(&params, &point)?;
             let want = build::normalised(&s, &point, e.radius())?;
-            let stored = self.rows[memory_index(&self.axes.shape(), &self.strides, n)].0;
+            let mut stored = self.rows[memory_index(&self.axes.shape(), &self.strides, n)].0;
+            // the heat is stored per unit of the node's direction factor Λ
+            let lambda = self.coordinates.of(&point, &e)?.heating as f32;
+            stored[VAL[3]] *= lambda;
+            stored[VAL[5]] *= lambda;
             let stale = (0..OUTPUTS).find(|&o| {
                 let (a, b) = (f64::from(want[o]), f64::from(stored[VAL[o]]));
                 // T_max compared as the stored G(T_max), its tolerance scaled by dG/dT
@@ -662,7 +682,12 @@ impl Table {
         for d in 0..DIMS {
             (q[d], inside[d]) = self.interp[d].clamp(q[d]);
         }
-        let core = self.core::<JAC, FMA>(&q);
+        let mut core = self.core::<JAC, FMA>(&q);
+        // the heat is interpolated per unit of the direction factor Λ (`heating`): times the query's own
+        let lambda = at.heating;
+        let heat = core.v[3];
+        core.v[3] *= lambda;
+        core.v[5] *= lambda;
         // undo the mirrors: output signs S and input signs D (J = S·J'·D)
         let sx = if mx { -1.0 } else { 1.0 };
         let sy = if my { -1.0 } else { 1.0 };
@@ -713,6 +738,18 @@ impl Table {
                 dg[o][FORCE] = (0..DIMS).map(|d| dq[o][d] * at.dlnf[d]).sum::<f64>() / f;
                 dg[o][FORCE + 1] = dq[o][SPEED] * at.dv;
                 dg[o][FORCE + 2] = dq[o][WET];
+            }
+            // G = Λ·Ĝ: Λ·∂Ĝ + Ĝ·∂Λ (Λ moves with ξ, η, φ and, through c·φ, with F_N)
+            let dlambda = [
+                at.dheating[0],
+                at.dheating[1],
+                at.dheating[2],
+                at.dheating[3] / f,
+                0.0,
+                0.0,
+            ];
+            for (x, dl) in dg[3].iter_mut().zip(dlambda) {
+                *x = lambda * *x + heat * dl;
             }
             let f_t = out.traction_coefficient;
             let t_free = max_temperature > self.bulk_temperature;
@@ -1379,18 +1416,25 @@ mod tests {
         symmetric_multilinear(&l)
     }
 
-    /// `f` with its T_max output read as the variable G that tables interpolate T_max in ([`rise`]): the
-    /// table of the wrapped function stores T_max = G⁻¹(f's value), whose G is then the data class the
-    /// interpolant reproduces (f's values 300–400 K as G are T_max of about 600–700 K, through the
-    /// yield-stress anomaly).
+    /// `f` with its heat outputs read as what tables of `params` with `axes` interpolate: T_max's as the
+    /// variable G ([`rise`]) and both T_max's and P_f/(F_N·V)'s per unit of the direction factor Λ of the
+    /// point ([`heating`]). The table of the wrapped function stores T_max = G⁻¹(Λ·f's value) and Λ·f's
+    /// P_f, so f's values are the data class the interpolant reproduces (f's values 300–400 K as G are T_max
+    /// of about 600–700 K, through the yield-stress anomaly; Λ puts FASTSIM's kinks at η = 0, φ = 0 into
+    /// the data).
     fn in_rise(
         params: &Params,
+        axes: &Axes,
         f: impl Fn(&[f64; DIMS]) -> [f64; OUTPUTS],
     ) -> impl Fn(&[f64; DIMS]) -> [f64; OUTPUTS] {
         let rise = RiseVariable::new(&params.material);
+        let coordinates = Coordinates::new(params, axes);
         move |c| {
+            let (p, e) = coordinates.point(c).unwrap();
+            let lambda = coordinates.of(&p, &e).unwrap().heating;
             let mut v = f(c);
-            v[3] = rise.temperature(v[3]);
+            v[3] = rise.temperature(lambda * v[3]);
+            v[5] *= lambda;
             v
         }
     }
@@ -1398,15 +1442,17 @@ mod tests {
     #[test]
     fn interpolant_reproduces_symmetric_multilinear_functions_and_their_derivatives() {
         let params = coarse_params();
-        let f = in_rise(&params, symmetric_multilinear);
         for axes in [tiny_axes(), blended(tiny_axes())] {
+            let f = in_rise(&params, &axes, symmetric_multilinear);
             reproduces(&synthetic(&axes, &params, &f), &f);
         }
         // log axes: exact for data multilinear in the logarithms (and not for data multilinear in x)
-        let f_log = in_rise(&params, symmetric_multilinear_in_logs);
-        let log = synthetic(&logarithmic(tiny_axes()), &params, &f_log);
+        let log_axes = logarithmic(tiny_axes());
+        let f_log = in_rise(&params, &log_axes, symmetric_multilinear_in_logs);
+        let log = synthetic(&log_axes, &params, &f_log);
         reproduces(&log, &f_log);
-        let t = synthetic(&logarithmic(tiny_axes()), &params, &f);
+        let f = in_rise(&params, &log_axes, symmetric_multilinear);
+        let t = synthetic(&log_axes, &params, &f);
         let c = [0.0, 0.0, 0.0, 75e3, 10.0, 0.5, 0.5, 0.7e9];
         let (p, e) = at(&t, &c, 0.0);
         // G = 300 + 50·(1 + 2e-6·F_N + …): F_N interpolated at ln(1.5)/ln(2) of its cell, not at 1/2
@@ -1438,6 +1484,8 @@ mod tests {
             );
             assert!((o.max_temperature - want[3]).abs() < 1e-4, "{c:?}");
             assert!((o.fluid_load_fraction - want[4]).abs() < 1e-6);
+            let power = o.frictional_power.unwrap() / (force * pt.speed);
+            assert!((power - want[5]).abs() < 1e-6, "{c:?}");
             // Jacobian against central differences of the exact function through the coordinates
             for d in 0..INPUTS {
                 let h = [1e-8, 1e-8, 1e-6, 1.0, 1e-4, 1e-6][d];
@@ -1452,14 +1500,70 @@ mod tests {
                     let scale = [force, force, force * e.radius(), 1.0, 700.0, 1.0][o]
                         / [0.05, 0.02, 1.0, 1e5, 20.0, 1.0][d];
                     // the node values are stored in f32: their rounding (relative 6e-8) over node
-                    // spacings (T_max of 600–700 K, rounded as stored and as G in memory)
+                    // spacings; T_max (650–800 K) rounded as stored (6e-5 K) becomes G with dG/dT up
+                    // to 3.2 in the yield-stress anomaly
+                    let tolerance = if o == 4 { 1e-3 } else { 1e-4 };
                     assert!(
-                        (j[o][d] - fd).abs() < 1e-4 * (fd.abs() + 1e-2 * scale),
+                        (j[o][d] - fd).abs() < tolerance * (fd.abs() + 1e-2 * scale),
                         "∂{o}/∂{d} at {c:?} (e {exponent}): {} vs {fd}",
                         j[o][d]
                     );
                 }
             }
+        }
+    }
+
+    /// FASTSIM's frictional heat has kinks at η = 0 and φ = 0 (its combined flexibility, `heating`): T_max
+    /// and P_f rise like |η| and |φ| from there on both sides. A table built by the exact solver (a/b 0.72,
+    /// p0 1.51 GPa, 158 m/s, dry, ξ 0.2 %) follows them a third into the cells beside η̂ = 0 and φ̂ = 0
+    /// (T_max rising by 20 and 54 K over them): measured 0.07 and −2.2 K off, P_f 6e-5 and 1.6 % — where
+    /// the heat itself interpolated (Λ ≡ 1) lags by −2.4 and −7.4 K, P_f by 8.5 and 13 % (the spline's
+    /// slope is 0 at those nodes: the η mirror's ghost nodes, Steffen's limit where the secants change
+    /// sign).
+    #[test]
+    fn the_heat_follows_fastsims_kinks_across_zero_lateral_and_spin_creepage() {
+        let mut params = Params::default();
+        params.grid.nx = 10;
+        params.grid.ny = 10;
+        let axes = explicit_axes(
+            [
+                &[0.0, 0.2, 0.4, 0.8],
+                &[0.0, 0.1, 0.2, 0.4],
+                &[-0.2, -0.1, 0.0, 0.1, 0.2],
+                &[100e3],
+                &[158.0],
+                &[0.0],
+                &[0.72],
+                &[1.51e9],
+            ],
+            [0.1, 0.1, 10.0],
+        );
+        let coords = Coordinates::new(&params, &axes);
+        let exact = |q: &[f64; DIMS]| {
+            let (point, e) = coords.point(q).unwrap();
+            let mut p = params.clone();
+            p.geometry.semi_axes = Some([e.a, e.b]);
+            let s = crate::solver::solve(&p, &point).unwrap();
+            assert!(s.report.converged);
+            (build::normalised(&s, &point, e.radius()).unwrap(), point, e)
+        };
+        let t = synthetic(&axes, &params, &|q| exact(q).0.map(f64::from));
+        for (d, h) in [(ETA, 0.1), (PHI, 0.1)] {
+            let mut q = [0.2, 0.0, 0.0, 100e3, 158.0, 0.0, 0.72, 1.51e9];
+            let t0 = exact(&q).0[3];
+            q[d] = h;
+            let rise = f64::from(exact(&q).0[3] - t0);
+            q[d] = h / 3.0;
+            let (want, point, e) = exact(&q);
+            let got = t.evaluate(&point, &e).unwrap();
+            let err = got.max_temperature - f64::from(want[3]);
+            let power = got.frictional_power.unwrap() / (point.normal_force * point.speed);
+            let power_err = power / f64::from(want[5]) - 1.0;
+            assert!(
+                rise > 15.0 && err.abs() < 0.06 * rise && power_err.abs() < 0.03,
+                "along {d}: T_max rises by {rise:.1} K over the cell; a third into it {err:.2} K off, \
+                 P_f {power_err:.1e}"
+            );
         }
     }
 
@@ -1694,11 +1798,16 @@ mod tests {
         axes.0[XI].points = vec![0.0, 0.2, 0.6, 2.0, 6.0, 10.0];
         let t = synthetic(&axes, &params, &symmetric_saturating);
         let shape = axes.shape();
-        // the stored (f32) node values, T_max as G(T_max) in f32 (`rise`)
+        // the stored (f32) node values, T_max as G(T_max) (`rise`), the heat per unit of the node's Λ
+        // (`heating`), in f32
         let vals: Vec<[f64; OUTPUTS]> = (0..axes.len())
             .map(|k| {
-                let mut v = symmetric_saturating(&axes.coordinates(k)).map(|v| f64::from(v as f32));
-                v[3] = f64::from(t.rise.of(v[3]) as f32);
+                let c = axes.coordinates(k);
+                let (p, e) = t.coordinates.point(&c).unwrap();
+                let lambda = t.coordinates.of(&p, &e).unwrap().heating;
+                let mut v = symmetric_saturating(&c).map(|v| f64::from(v as f32));
+                v[3] = f64::from((t.rise.of(v[3]) / lambda) as f32);
+                v[5] = f64::from((v[5] / lambda) as f32);
                 v
             })
             .collect();

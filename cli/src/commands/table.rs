@@ -603,6 +603,14 @@ fn info(dir: &Path) -> Result<()> {
         }
     );
     println!(
+        "  heat            T_max's variable and P_f/(F_N V) interpolated {} (docs/model.md §12.3)",
+        if wheelrail::table::heating::applies(&s.params) {
+            "per unit of FASTSIM's direction factor L/L1"
+        } else {
+            "as they are (exact tangential solver)"
+        }
+    );
+    println!(
         "  built           {} in {:.1} s on {} threads{}",
         s.build.date,
         s.build.duration_seconds,
