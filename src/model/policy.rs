@@ -110,6 +110,10 @@ pub enum Fallback {
     /// a wet contact's friction where metal begins to cover the contact (the onset of the walls,
     /// [`crate::table::TableOutput::resolved`]).
     Unresolved,
+    /// The interpolation at the point uses table points that did not converge when the table was built
+    /// ([`crate::table::TableOutput::converged`]; in the hottest wet corner of a table over the whole range
+    /// some points have no stable steady state, docs/model.md §9, while most contacts around them do).
+    UnconvergedNodes,
 }
 
 /// Something an evaluation did that its caller may want to report (the evaluator reports it every time;
@@ -423,33 +427,41 @@ impl Evaluator {
             };
         };
         let (e, p0) = self.contact(geometry, point.normal_force)?;
-        // the first table that covers the contact, holds the point inside its ranges and resolves its cell;
-        // else the first that holds it in an unresolved cell (table-only serves it as it is), else the
-        // first that covers the contact at all (table-only clamps to it). Each evaluation flags a point
-        // outside the ranges (and an invalid one is an error), as `Table::in_range` would: evaluating once
-        // is half the cost of asking first
+        // the first table that covers the contact, holds the point inside its ranges, resolves its cell and
+        // interpolates it from converged points; else the first that holds it in an unresolved cell or
+        // next to unconverged points (table-only serves it as it is), else the first that covers the
+        // contact at all (table-only clamps to it). Each evaluation flags a point outside the ranges (and
+        // an invalid one is an error), as `Table::in_range` would: evaluating once is half the cost of
+        // asking first
         let (mut unresolved, mut clamped) = (None, None);
         for table in self.matching() {
             let Some(output) = O::covered(table, point, &e) else {
                 continue;
             };
-            match output
-                .as_ref()
-                .map(|o| (o.outputs().in_range, o.outputs().resolved))
-            {
-                Ok((true, true)) => return Ok((Some(ByTable(e, p0, output)), None)),
-                Ok((true, false)) if unresolved.is_none() => unresolved = Some(output),
+            match output.as_ref().map(|o| {
+                let o = o.outputs();
+                (o.in_range, o.resolved, o.converged)
+            }) {
+                Ok((true, true, true)) => return Ok((Some(ByTable(e, p0, output)), None)),
+                Ok((true, resolved, _)) if unresolved.is_none() => {
+                    let why = if resolved {
+                        Fallback::UnconvergedNodes
+                    } else {
+                        Fallback::Unresolved
+                    };
+                    unresolved = Some((output, why));
+                }
                 _ if clamped.is_none() => clamped = Some(output),
                 _ => {}
             }
         }
         match (self.mode, unresolved, clamped) {
-            (Mode::TableOnly, Some(output), _) => Ok((Some(ByTable(e, p0, output)), None)),
+            (Mode::TableOnly, Some((output, _)), _) => Ok((Some(ByTable(e, p0, output)), None)),
             (Mode::TableOnly, None, Some(output)) => {
                 Ok((Some(ByTable(e, p0, output)), Some(Notice::Clamped)))
             }
             (Mode::TableOnly, None, None) => Err(built.outside_geometry(&e, point.normal_force)),
-            (_, Some(_), _) => Ok((None, Some(Notice::FellBack(Fallback::Unresolved)))),
+            (_, Some((_, why)), _) => Ok((None, Some(Notice::FellBack(why)))),
             (_, None, Some(_)) => Ok((None, Some(Notice::FellBack(Fallback::OutsideRanges)))),
             (_, None, None) => Ok((None, Some(Notice::FellBack(Fallback::OtherGeometry)))),
         }

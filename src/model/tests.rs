@@ -1000,3 +1000,43 @@ fn auto_solves_points_in_cells_the_table_does_not_resolve_and_table_only_serves_
     let r = eval(&evaluator(Mode::Auto, params()), &inside());
     assert!(matches!(r.by, Evaluated::Table(o) if o.resolved));
 }
+
+#[test]
+fn auto_solves_points_interpolated_from_unconverged_table_points_and_table_only_flags_them() {
+    // the small table with its nodes flagged as not converged at the last wetness node: the point
+    // inside() interpolates from some of them
+    use crate::table::axes::WET;
+    let mut files = crate::table::build(&params(), &small_axes(), None, &|| ()).unwrap();
+    let shape = files.axes.shape();
+    let stride: usize = shape[WET + 1..].iter().product();
+    for (i, c) in files.converged.iter_mut().enumerate() {
+        if (i / stride) % shape[WET] == shape[WET] - 1 {
+            *c = 0;
+        }
+    }
+    let flagged = Arc::new(Table::from_files(files, None).unwrap());
+    let with = |mode: Mode| {
+        Evaluator::new(
+            Model::new(params()).unwrap(),
+            mode,
+            Some(flagged.clone()),
+            Policy::default(),
+        )
+        .unwrap()
+    };
+    let r = eval(&with(Mode::Auto), &inside());
+    assert!(matches!(r.by, Evaluated::Exact(_)));
+    assert_eq!(
+        notice_list(&r),
+        [Notice::FellBack(Fallback::UnconvergedNodes)]
+    );
+    let s = crate::solve(&params(), &inside()).unwrap();
+    assert_eq!(r.outputs().unwrap().force_x, s.global.force_x);
+    assert!(r.outputs().unwrap().converged);
+    // table-only serves it as the table interpolates it, flagged
+    let r = eval(&with(Mode::TableOnly), &inside());
+    let Evaluated::Table(o) = r.by else {
+        panic!("table-only evaluated by {:?}", r.by)
+    };
+    assert!(r.notices.is_empty() && o.in_range && o.resolved && !o.converged);
+}

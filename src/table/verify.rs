@@ -187,11 +187,13 @@ pub struct VerifyReport {
     pub compared: usize,
     /// Points skipped because the exact solution did not converge.
     pub skipped_unconverged: usize,
-    /// Compared points whose table stencil holds an unconverged table point.
+    /// Compared points whose table stencil holds an unconverged table point. Mode auto solves them exactly
+    /// (as the unresolved ones below, and counted as they are).
     pub table_unconverged: usize,
     /// Compared points in cells the table does not resolve ([`TableOutput::resolved`]: T_max jumps across
-    /// them, or their wet corners straddle the onset of the walls). Mode auto solves them exactly, so the statistics below, those of the outputs mode auto gives,
-    /// count them with error 0 (the table's own values stay in the CSV); the worst point is not one of them.
+    /// them, or their wet corners straddle the onset of the walls). Mode auto solves them exactly, so the
+    /// statistics below, those of the outputs mode auto gives, count them with error 0 (the table's own
+    /// values stay in the CSV); the worst point is not one of them.
     pub unresolved: usize,
     /// |ΔF|/F_N, F = (F_x, F_y) [-].
     pub force: Stats,
@@ -276,13 +278,12 @@ fn cell_errors(table: &Table, compared: &[&Compared]) -> Vec<CellErrors> {
 }
 
 impl VerifyReport {
-    /// Whether the force errors meet issue 5's target (p99 ≤ 0.01, max ≤ 0.03) and every compared point
-    /// used converged table points.
+    /// Whether the force errors mode auto gives meet issue 5's target (p99 ≤ 0.01, max ≤ 0.03). Points
+    /// next to table points that did not converge count as mode auto serves them, exactly: in the hottest
+    /// wet corner of the whole range some points have no stable steady state (docs/model.md §9), so a
+    /// table there cannot be free of them.
     pub fn meets_target(&self) -> bool {
-        self.compared > 0
-            && self.force.p99 <= TARGET_P99
-            && self.force.max <= TARGET_MAX
-            && self.table_unconverged == 0
+        self.compared > 0 && self.force.p99 <= TARGET_P99 && self.force.max <= TARGET_MAX
     }
 
     /// Whether p99 of |ΔT_max| meets issue 13's target ([`TARGET_TEMPERATURE_P99`]).
@@ -306,10 +307,16 @@ pub struct Compared {
 }
 
 impl Compared {
-    /// The errors of the outputs mode auto gives: [`Compared::errors`], or 0 in a cell the table does not
-    /// resolve (mode auto solves such points exactly).
+    /// Whether mode auto takes the point from the table: its cell is resolved and every table point the
+    /// interpolation uses converged (otherwise mode auto solves it exactly).
+    pub fn by_table_in_auto(&self) -> bool {
+        self.table.resolved && self.table.converged
+    }
+
+    /// The errors of the outputs mode auto gives: [`Compared::errors`], or 0 where mode auto solves the
+    /// point exactly ([`Compared::by_table_in_auto`]).
     pub fn auto_errors(&self) -> [f64; 6] {
-        if self.table.resolved {
+        if self.by_table_in_auto() {
             self.errors
         } else {
             [0.0; 6]
@@ -387,8 +394,8 @@ pub fn report(table: &Table, compared: &[Option<Compared>]) -> VerifyReport {
         for (col, v) in cols.iter_mut().zip(c.auto_errors()) {
             col.push(v);
         }
-        if !c.table.resolved {
-            unresolved += 1;
+        unresolved += usize::from(!c.table.resolved);
+        if !c.by_table_in_auto() {
             continue;
         }
         if worst.is_none_or(|w| c.errors[0] > w.force_error) {
@@ -612,6 +619,38 @@ mod tests {
                 c.force.max <= r.force.max && c.max_temperature.max <= 90.0,
                 "{c:?}"
             );
+        }
+    }
+
+    #[test]
+    fn samples_next_to_unconverged_table_points_count_as_mode_auto_serves_them() {
+        // errors 1 … 90 (force 1e-4 × that, T_max in K) and, for the last ten, interpolated from
+        // unconverged table points, force 0.05 and T_max 500 K; five of those ten also unresolved
+        let (t, mut compared) = with_known_errors(100, 3, |k| {
+            let e = (k + 1) as f64;
+            if k < 90 {
+                (true, true, 1e-4 * e, e)
+            } else {
+                (true, k < 95, 0.05, 500.0)
+            }
+        });
+        for c in compared.iter_mut().flatten().skip(90) {
+            c.table.converged = false;
+            assert!(!c.by_table_in_auto());
+        }
+        let r = report(&t, &compared);
+        assert_eq!(
+            (r.compared, r.unresolved, r.table_unconverged),
+            (100, 5, 10)
+        );
+        // mode auto solves the ten exactly: error 0, not the worst point; the target is met, as mode auto
+        // gives it (the table's own values there would miss it: max 0.05)
+        assert_eq!(r.max_temperature.max, 90.0);
+        assert_eq!(r.force.max, 90.0 * 1e-4);
+        assert_eq!(r.worst.unwrap().force_error, 90.0 * 1e-4);
+        assert!(r.meets_target());
+        for c in &r.cells {
+            assert!(c.force.max <= r.force.max, "{c:?}");
         }
     }
 }

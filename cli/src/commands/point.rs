@@ -112,6 +112,9 @@ fn warn(evaluator: &Evaluator, e: &Evaluation) {
             Notice::FellBack(Fallback::Unresolved) => eprintln!(
                 "warning: the point lies in a table cell across which the model jumps (a wet contact losing its film: T_max of a hot one, or where metal begins to cover the contact); the exact solver evaluates it"
             ),
+            Notice::FellBack(Fallback::UnconvergedNodes) => eprintln!(
+                "warning: the table interpolates the point from points that did not converge when it was built; the exact solver evaluates it"
+            ),
             Notice::FellBack(Fallback::OtherParameters) => eprintln!(
                 "warning: the table at {} was built for other parameters; the exact solver evaluates the point",
                 evaluator.table_locations()

@@ -226,6 +226,10 @@ impl Warned {
                                                  losing its film: a hot one's maximum temperature, \
                                                  or where metal begins to cover the contact)"
                             .into(),
+                        Fallback::UnconvergedNodes => "the lookup table interpolates an operating point \
+                                                       from points that did not converge when it was \
+                                                       built"
+                            .into(),
                         Fallback::OtherGeometry => format!(
                             "the contact geometry (curvature_longitudinal, curvature_lateral, semi_axis_a, \
                              semi_axis_b) differs from the one the lookup table at {} was built for",
