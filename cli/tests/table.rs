@@ -755,6 +755,14 @@ fn verify_passes_a_good_table_and_fails_a_stale_one() {
     for row in &rows {
         assert!((force_error(row) - row[col("force_error")]).abs() <= 1e-15);
     }
+    // and the flags of the samples mode auto solves exactly, as the report counts them
+    for (flag, key) in [
+        ("table_resolved", "unresolved"),
+        ("table_converged", "table_unconverged"),
+    ] {
+        let not = rows.iter().filter(|row| row[col(flag)] == 0.0).count();
+        assert_eq!(Some(not as u64), r[key].as_u64(), "{flag}");
+    }
     let row = &rows[7];
     let arg = |name: &str| format!("{:e}", row[col(name)]);
     let exact = ok(&wheelrail(

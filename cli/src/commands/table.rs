@@ -416,7 +416,7 @@ fn write_samples(path: &Path, compared: &[Option<verify::Compared>]) -> Result<(
     for n in verify::ERROR_NAMES {
         out.push_str(&format!(",{n}"));
     }
-    out.push_str(",table_resolved\n");
+    out.push_str(",table_resolved,table_converged\n");
     for c in compared.iter().flatten() {
         let (p, e) = (&c.sample.point, &c.sample.ellipse);
         let f = p.normal_force;
@@ -436,7 +436,7 @@ fn write_samples(path: &Path, compared: &[Option<verify::Compared>]) -> Result<(
         .chain(outputs(&c.table))
         .chain(outputs(&c.exact))
         .chain(c.errors)
-        .chain([f64::from(u8::from(c.table.resolved))]);
+        .chain([c.table.resolved, c.table.converged].map(|b| f64::from(u8::from(b))));
         let cells: Vec<String> = row.map(|v| format!("{v:e}")).collect();
         out.push_str(&cells.join(","));
         out.push('\n');
