@@ -962,40 +962,56 @@ fn several_tables_take_each_point_to_the_first_that_holds_it() {
     );
 }
 
-#[test]
-fn auto_solves_points_in_cells_the_table_does_not_resolve_and_table_only_serves_them() {
+/// Evaluators (by mode) of the model with the small table whose nodes at its last wetness node are changed
+/// by `edit(files, node)`.
+fn with_last_wetness_nodes(
+    edit: impl Fn(&mut crate::table::TableFiles, usize),
+) -> impl Fn(Mode) -> Evaluator {
     use crate::table::axes::WET;
-    // the small table with T_max 400 K higher at its last wetness node: every cell next to it holds the
-    // jump, the point inside() among them
     let mut files = crate::table::build(&params(), &small_axes(), None, &|| ()).unwrap();
     let shape = files.axes.shape();
     let stride: usize = shape[WET + 1..].iter().product();
-    for (i, t) in files.outputs[3].iter_mut().enumerate() {
+    for i in 0..files.converged.len() {
         if (i / stride) % shape[WET] == shape[WET] - 1 {
-            *t += 400.0;
+            edit(&mut files, i);
         }
     }
-    let jumpy = Arc::new(Table::from_files(files, None).unwrap());
-    let with = |mode: Mode| {
+    let table = Arc::new(Table::from_files(files, None).unwrap());
+    move |mode| {
         Evaluator::new(
             Model::new(params()).unwrap(),
             mode,
-            Some(jumpy.clone()),
+            Some(table.clone()),
             Policy::default(),
         )
         .unwrap()
-    };
+    }
+}
+
+/// Mode auto of `with` solves the point inside() exactly, saying `why`; table-only serves it as the table
+/// interpolates it, inside the ranges, with nothing to report: its output.
+fn auto_solves_inside_exactly(with: &impl Fn(Mode) -> Evaluator, why: Fallback) -> TableOutput {
     let r = eval(&with(Mode::Auto), &inside());
     assert!(matches!(r.by, Evaluated::Exact(_)));
-    assert_eq!(notice_list(&r), [Notice::FellBack(Fallback::Unresolved)]);
+    assert_eq!(notice_list(&r), [Notice::FellBack(why)]);
     let s = crate::solve(&params(), &inside()).unwrap();
     assert_eq!(r.outputs().unwrap().force_x, s.global.force_x);
-    // table-only serves it as the table interpolates it, inside the ranges: nothing to report
+    assert!(r.outputs().unwrap().converged);
     let r = eval(&with(Mode::TableOnly), &inside());
     let Evaluated::Table(o) = r.by else {
         panic!("table-only evaluated by {:?}", r.by)
     };
-    assert!(r.notices.is_empty() && o.in_range && !o.resolved);
+    assert!(r.notices.is_empty() && o.in_range);
+    o
+}
+
+#[test]
+fn auto_solves_points_in_cells_the_table_does_not_resolve_and_table_only_serves_them() {
+    // T_max 400 K higher at the last wetness node: every cell next to it holds the jump, the point
+    // inside() among them
+    let jumpy = with_last_wetness_nodes(|f, i| f.outputs[3][i] += 400.0);
+    let o = auto_solves_inside_exactly(&jumpy, Fallback::Unresolved);
+    assert!(!o.resolved && o.converged);
     // the unchanged table resolves the point
     let r = eval(&evaluator(Mode::Auto, params()), &inside());
     assert!(matches!(r.by, Evaluated::Table(o) if o.resolved));
@@ -1003,40 +1019,9 @@ fn auto_solves_points_in_cells_the_table_does_not_resolve_and_table_only_serves_
 
 #[test]
 fn auto_solves_points_interpolated_from_unconverged_table_points_and_table_only_flags_them() {
-    // the small table with its nodes flagged as not converged at the last wetness node: the point
-    // inside() interpolates from some of them
-    use crate::table::axes::WET;
-    let mut files = crate::table::build(&params(), &small_axes(), None, &|| ()).unwrap();
-    let shape = files.axes.shape();
-    let stride: usize = shape[WET + 1..].iter().product();
-    for (i, c) in files.converged.iter_mut().enumerate() {
-        if (i / stride) % shape[WET] == shape[WET] - 1 {
-            *c = 0;
-        }
-    }
-    let flagged = Arc::new(Table::from_files(files, None).unwrap());
-    let with = |mode: Mode| {
-        Evaluator::new(
-            Model::new(params()).unwrap(),
-            mode,
-            Some(flagged.clone()),
-            Policy::default(),
-        )
-        .unwrap()
-    };
-    let r = eval(&with(Mode::Auto), &inside());
-    assert!(matches!(r.by, Evaluated::Exact(_)));
-    assert_eq!(
-        notice_list(&r),
-        [Notice::FellBack(Fallback::UnconvergedNodes)]
-    );
-    let s = crate::solve(&params(), &inside()).unwrap();
-    assert_eq!(r.outputs().unwrap().force_x, s.global.force_x);
-    assert!(r.outputs().unwrap().converged);
-    // table-only serves it as the table interpolates it, flagged
-    let r = eval(&with(Mode::TableOnly), &inside());
-    let Evaluated::Table(o) = r.by else {
-        panic!("table-only evaluated by {:?}", r.by)
-    };
-    assert!(r.notices.is_empty() && o.in_range && o.resolved && !o.converged);
+    // the nodes at the last wetness node flagged as not converged: the point inside() interpolates from
+    // some of them
+    let flagged = with_last_wetness_nodes(|f, i| f.converged[i] = 0);
+    let o = auto_solves_inside_exactly(&flagged, Fallback::UnconvergedNodes);
+    assert!(o.resolved && !o.converged);
 }
