@@ -433,7 +433,7 @@ impl Evaluator {
         // contact at all (table-only clamps to it). Each evaluation flags a point outside the ranges (and
         // an invalid one is an error), as `Table::in_range` would: evaluating once is half the cost of
         // asking first
-        let (mut unresolved, mut clamped) = (None, None);
+        let (mut held, mut clamped) = (None, None);
         for table in self.matching() {
             let Some(output) = O::covered(table, point, &e) else {
                 continue;
@@ -443,19 +443,19 @@ impl Evaluator {
                 (o.in_range, o.resolved, o.converged)
             }) {
                 Ok((true, true, true)) => return Ok((Some(ByTable(e, p0, output)), None)),
-                Ok((true, resolved, _)) if unresolved.is_none() => {
+                Ok((true, resolved, _)) if held.is_none() => {
                     let why = if resolved {
                         Fallback::UnconvergedNodes
                     } else {
                         Fallback::Unresolved
                     };
-                    unresolved = Some((output, why));
+                    held = Some((output, why));
                 }
                 _ if clamped.is_none() => clamped = Some(output),
                 _ => {}
             }
         }
-        match (self.mode, unresolved, clamped) {
+        match (self.mode, held, clamped) {
             (Mode::TableOnly, Some((output, _)), _) => Ok((Some(ByTable(e, p0, output)), None)),
             (Mode::TableOnly, None, Some(output)) => {
                 Ok((Some(ByTable(e, p0, output)), Some(Notice::Clamped)))
