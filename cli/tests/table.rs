@@ -869,7 +869,7 @@ fn a_table_by_similarity_serves_every_load() {
         )
         .replace(
             "[speed]\npoints = [27.0, 33.0]",
-            "[speed]\nsimilarity = true\npoints = [27.0, 33.0]",
+            "[speed]\nsimilarity = true\npoints = [27.0, 33.0]\nsqrt_from = 27.0",
         );
     assert!(axes.contains("similarity = true") && axes.contains("[100e3]"));
     let (params, axes) = files("sim", SMALL_GRID, &axes);
@@ -877,7 +877,9 @@ fn a_table_by_similarity_serves_every_load() {
     build(&params, &axes, &dir, &[], "2");
     let info = ok(&wheelrail(&["table", "info", s(&dir)], None));
     assert!(
-        info.contains("similarity: equivalent speeds") && info.contains("F_N 1 × V 2"),
+        info.contains("similarity: equivalent speeds")
+            && info.contains("F_N 1 × V 2")
+            && info.contains("(in sqrt(V) from 27 on)"),
         "{info}"
     );
     let (r, header, rows) = verify_with_csv(&dir, &tmp("sim-samples.csv"), 60);
@@ -895,6 +897,21 @@ fn a_table_by_similarity_serves_every_load() {
     assert!(
         (10e3..40e3).contains(&lo) && (160e3..=250e3).contains(&hi),
         "{lo} {hi}"
+    );
+    // the speed cell is interpolated in √V: verify's cell midpoints are equivalent speeds at the middle
+    // of √V, ((√27 + √33)/2)² = 29.95 m/s, not 30 m/s
+    let equivalent = |r: &Vec<f64>| r[col("speed")] * (r[col("normal_force")] / 100e3).sqrt();
+    let middle = (0.5 * (27f64.sqrt() + 33f64.sqrt())).powi(2);
+    let at = |v: f64| {
+        rows.iter()
+            .filter(|r| (equivalent(r) - v).abs() < 1e-9)
+            .count()
+    };
+    assert!(
+        at(middle) > 5 && at(30.0) == 0,
+        "{} {}",
+        at(middle),
+        at(30.0)
     );
     // the row of the load farthest from 100 kN
     let row = rows

@@ -167,9 +167,18 @@ pub struct Axis {
     /// alone, and the table serves every load (a contact maps to its equivalent at F_ref).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub similarity: bool,
+    /// Linear axes: the point from which on the cells are interpolated linearly in √x instead of x — the
+    /// speed cells where T_max rises like the flash temperature, ∝ √V (docs/model.md §12.3).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sqrt_from: Option<f64>,
 }
 
 impl Axis {
+    /// Whether cell `i` (between points i and i + 1) is interpolated linearly in √x ([`Axis::sqrt_from`]).
+    pub fn cell_in_sqrt(&self, i: usize) -> bool {
+        self.sqrt_from.is_some_and(|x0| self.points[i] >= x0)
+    }
+
     /// How the axis of dimension `dim` is interpolated: the dimension's kind, or [`Interpolation::Log`] for
     /// a logarithmic linear axis.
     pub fn interpolation(&self, dim: usize) -> Interpolation {
@@ -240,6 +249,10 @@ pub struct AxisSpec {
     /// points are equivalent speeds V·sqrt(F_N/F_ref) at F_ref = 100 kN, the normal_force axis must be
     /// `points = [100e3]`, and the table serves every load whose equivalent speed lies on the axis.
     pub similarity: Option<bool>,
+    /// Linear axes (not `"log"`): one of the points, from which on the cells are interpolated linearly in
+    /// √x (points > 0): the speed cells above ≈ 27 m/s, where T_max rises like the flash temperature
+    /// (docs/model.md §12.3).
+    pub sqrt_from: Option<f64>,
 }
 
 /// An axes file (TOML): one optional table per dimension; a missing one takes the default axis.
@@ -429,6 +442,7 @@ impl AxisSpec {
             raw_scale: self.raw_scale,
             logarithmic,
             similarity,
+            sqrt_from: self.sqrt_from,
         };
         validate_axis(dim, &axis)?;
         Ok(axis)
@@ -496,8 +510,8 @@ fn generate(
 
 /// Checks one axis: enough points for its interpolation (a linear axis may have a single point: a table of
 /// that value only), strictly increasing, finite, inside the physical range of the dimension; a mirrored
-/// axis starts at 0; a logarithmic axis is a linear one with points > 0; a raw limit (creepage axes only)
-/// inside the solver's range.
+/// axis starts at 0; a logarithmic axis is a linear one with points > 0; `sqrt_from` is a point > 0 (not the
+/// last) of a linear axis; a raw limit (creepage axes only) inside the solver's range.
 fn validate_axis(dim: usize, axis: &Axis) -> Result<()> {
     let p = &axis.points;
     let needed = match (axis.interpolation(dim), axis.mirrored) {
@@ -519,6 +533,19 @@ fn validate_axis(dim: usize, axis: &Axis) -> Result<()> {
     }
     if p.iter().any(|x| !x.is_finite()) || p.windows(2).any(|w| w[0] >= w[1]) {
         return Err(bad(dim, "points must be finite and strictly increasing"));
+    }
+    if let Some(x0) = axis.sqrt_from
+        && !(axis.interpolation(dim) == Interpolation::Linear
+            && x0 > 0.0
+            && p[..p.len() - 1].contains(&x0))
+    {
+        return Err(bad(
+            dim,
+            format!(
+                "sqrt_from {x0} must be one of the points before the last, > 0, on a linear axis (not \
+                 \"log\"); the points are {p:?}"
+            ),
+        ));
     }
     let (lo, hi) = physical_range(dim, axis.raw_limit.is_some());
     if axis.min() < lo || axis.max() > hi {
@@ -836,6 +863,34 @@ mod tests {
             let spec: AxesSpec = toml::from_str(toml).unwrap();
             let e = Axes::from_spec(&spec).unwrap_err().to_string();
             assert!(e.contains(name) && e.contains("log"), "{e}");
+        }
+    }
+
+    #[test]
+    fn linear_axes_may_be_interpolated_in_square_roots_from_one_of_their_points_on() {
+        let spec: AxesSpec =
+            toml::from_str("[speed]\npoints = [1.0, 4.0, 26.8, 65.0, 158.0]\nsqrt_from = 26.8")
+                .unwrap();
+        let a = Axes::from_spec(&spec).unwrap();
+        let cells: Vec<bool> = (0..4).map(|i| a.0[SPEED].cell_in_sqrt(i)).collect();
+        assert_eq!(cells, [false, false, true, true]);
+        assert_eq!(a.0[SPEED].interpolation(SPEED), Interpolation::Linear);
+        assert!(!Axes::default().0[SPEED].cell_in_sqrt(0));
+        // the sidecar records it
+        let records = crate::table::file::axis_records(&a);
+        assert_eq!(records[SPEED].sqrt_from, Some(26.8));
+        assert_eq!(records[WET].sqrt_from, None);
+        // a point (not the last, > 0) of a linear axis, not a log or creepage axis
+        for toml in [
+            "[speed]\npoints = [1.0, 4.0, 26.8]\nsqrt_from = 26.0",
+            "[speed]\npoints = [1.0, 4.0, 26.8]\nsqrt_from = 26.8",
+            "[speed]\ninterpolation = \"log\"\npoints = [1.0, 4.0, 26.8]\nsqrt_from = 4.0",
+            "[wetness]\npoints = [0.0, 0.5, 1.0]\nsqrt_from = 0.0",
+            "[spin]\nmin = -1.6\nmax = 1.6\ncount = 5\nraw_limit = 1.0\nsqrt_from = 0.0",
+        ] {
+            let spec: AxesSpec = toml::from_str(toml).unwrap();
+            let e = Axes::from_spec(&spec).unwrap_err().to_string();
+            assert!(e.contains("sqrt_from"), "{toml}: {e}");
         }
     }
 

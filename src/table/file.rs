@@ -116,6 +116,9 @@ pub struct AxisRecord {
     /// (docs/model.md §9.1).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub similarity: bool,
+    /// Linear axes: the point from which on the cells are interpolated linearly in √x.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sqrt_from: Option<f64>,
 }
 
 /// How a full table stores its output arrays (the converged flags are always u8).
@@ -447,6 +450,7 @@ pub fn axis_records(axes: &Axes) -> Vec<AxisRecord> {
             raw_limit: a.raw_limit,
             raw_scale: a.raw_scale,
             similarity: a.similarity,
+            sqrt_from: a.sqrt_from,
         })
         .collect()
 }
@@ -491,6 +495,7 @@ fn axes_of(sidecar: &Sidecar, path: &Path) -> Result<Axes> {
             raw_scale: r.raw_scale,
             logarithmic,
             similarity: r.similarity,
+            sqrt_from: r.sqrt_from,
         });
     }
     if sidecar.format_version == 1 {
@@ -511,6 +516,7 @@ fn axes_of(sidecar: &Sidecar, path: &Path) -> Result<Axes> {
                 raw_scale: None,
                 logarithmic: false,
                 similarity: false,
+                sqrt_from: None,
             });
         }
     }

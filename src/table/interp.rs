@@ -24,7 +24,8 @@
 //! affine in (F_N, a/b, p_ref), and a convex combination of node values (so it keeps the monotonicity of
 //! the creep curves along the cubic axes). A single-point axis contributes nothing (its coordinate is that
 //! point). On a log axis ([`Interpolation::Log`]) the fraction is that of ln x, so the class reproduced
-//! exactly is affine (multilinear) in the logarithm of that coordinate. Measured on the format-1 default
+//! exactly is affine (multilinear) in the logarithm of that coordinate; in the cells of a linear axis
+//! from its [`Axis::sqrt_from`] point up, that of √x (data linear in √x there, in x below). Measured on the format-1 default
 //! table (F_N, V, w linear): simplices over all three gave
 //! |ΔF|/F_N p99 1.1e-2 against 6e-3 multilinear; with (V, w) multilinear the results are the multilinear
 //! ones (F_N alone on the simplex is linear).
@@ -471,13 +472,24 @@ struct CubicInterval {
     mix: [f64; 2],
 }
 
+/// The coordinate one interval of a linear axis is linear in.
+#[derive(Debug, Clone, Copy)]
+enum CellCoordinate {
+    /// x itself.
+    Linear,
+    /// ln x ([`Interpolation::Log`]): 1/ln(x_(i+1)/x_i).
+    Log { inv_ln: f64 },
+    /// √x (the cells of [`Axis::sqrt_from`]): √x_i and 1/(√x_(i+1) − √x_i).
+    Sqrt { root: f64, inv: f64 },
+}
+
 /// Precomputed interpolation along one axis.
 #[derive(Debug, Clone)]
 pub struct AxisInterp {
     points: Vec<f64>,
     inv_h: Vec<f64>,
-    /// Log axes: 1/ln(x_(i+1)/x_i) per interval (empty otherwise).
-    inv_ln: Vec<f64>,
+    /// Linear axes: the coordinate each interval is linear in (empty for cubic axes).
+    cells: Vec<CellCoordinate>,
     /// Per interval (cubic axes only).
     cubic: Vec<CubicInterval>,
 }
@@ -488,9 +500,29 @@ impl AxisInterp {
         let p = &axis.points;
         let n = p.len();
         let inv_h: Vec<f64> = p.windows(2).map(|w| 1.0 / (w[1] - w[0])).collect();
-        let inv_ln = match kind {
-            Interpolation::Log => p.windows(2).map(|w| 1.0 / (w[1] / w[0]).ln()).collect(),
-            _ => Vec::new(),
+        let cells = match kind {
+            Interpolation::Cubic => Vec::new(),
+            Interpolation::Log => p
+                .windows(2)
+                .map(|w| CellCoordinate::Log {
+                    inv_ln: 1.0 / (w[1] / w[0]).ln(),
+                })
+                .collect(),
+            Interpolation::Linear => p
+                .windows(2)
+                .enumerate()
+                .map(|(i, w)| {
+                    if axis.cell_in_sqrt(i) {
+                        let root = w[0].sqrt();
+                        CellCoordinate::Sqrt {
+                            root,
+                            inv: 1.0 / (w[1].sqrt() - root),
+                        }
+                    } else {
+                        CellCoordinate::Linear
+                    }
+                })
+                .collect(),
         };
         let cubic = match kind {
             Interpolation::Linear | Interpolation::Log => Vec::new(),
@@ -532,7 +564,7 @@ impl AxisInterp {
         Self {
             points: p.clone(),
             inv_h,
-            inv_ln,
+            cells,
             cubic,
         }
     }
@@ -577,18 +609,27 @@ impl AxisInterp {
             return Fraction::default();
         }
         let (i, t) = self.locate(x);
-        match self.inv_ln.get(i) {
-            // linear in ln x: t = ln(x/x_i)/ln(x_(i+1)/x_i), dt/dx = 1/(x·ln(x_(i+1)/x_i))
-            Some(inv_ln) => Fraction {
-                start: i,
-                t: ((x / self.points[i]).ln() * inv_ln).clamp(0.0, 1.0),
-                inv_h: inv_ln / x,
-            },
-            None => Fraction {
+        match self.cells[i] {
+            CellCoordinate::Linear => Fraction {
                 start: i,
                 t,
                 inv_h: self.inv_h[i],
             },
+            // t = ln(x/x_i)/ln(x_(i+1)/x_i), dt/dx = 1/(x·ln(x_(i+1)/x_i))
+            CellCoordinate::Log { inv_ln } => Fraction {
+                start: i,
+                t: ((x / self.points[i]).ln() * inv_ln).clamp(0.0, 1.0),
+                inv_h: inv_ln / x,
+            },
+            // t = (√x − √x_i)/(√x_(i+1) − √x_i), dt/dx = 1/(2√x·(√x_(i+1) − √x_i))
+            CellCoordinate::Sqrt { root, inv } => {
+                let r = x.sqrt();
+                Fraction {
+                    start: i,
+                    t: ((r - root) * inv).clamp(0.0, 1.0),
+                    inv_h: 0.5 * inv / r,
+                }
+            }
         }
     }
 
@@ -642,12 +683,8 @@ mod tests {
     fn cubic_axis(points: &[f64], mirrored: bool) -> AxisInterp {
         AxisInterp::new(
             &Axis {
-                points: points.to_vec(),
                 mirrored,
-                raw_limit: None,
-                raw_scale: None,
-                logarithmic: false,
-                similarity: false,
+                ..axis_of(points.to_vec())
             },
             Interpolation::Cubic,
         )
@@ -792,21 +829,22 @@ mod tests {
         }
     }
 
+    /// A linear axis of `points`.
+    fn axis_of(points: Vec<f64>) -> Axis {
+        Axis {
+            points,
+            mirrored: false,
+            raw_limit: None,
+            raw_scale: None,
+            logarithmic: false,
+            similarity: false,
+            sqrt_from: None,
+        }
+    }
+
     #[test]
     fn linear_fractions_and_clamping() {
-        let axis = |points: Vec<f64>| {
-            AxisInterp::new(
-                &Axis {
-                    points,
-                    mirrored: false,
-                    raw_limit: None,
-                    raw_scale: None,
-                    logarithmic: false,
-                    similarity: false,
-                },
-                Interpolation::Linear,
-            )
-        };
+        let axis = |points: Vec<f64>| AxisInterp::new(&axis_of(points), Interpolation::Linear);
         let ai = axis(vec![1.0, 2.0, 4.0]);
         assert_eq!(
             ai.fraction(3.0),
@@ -826,6 +864,23 @@ mod tests {
         assert_eq!(one.clamp(7e8 * (1.0 + 1e-12)), (7e8, true));
         assert_eq!(one.clamp(7.1e8), (7e8, false));
         assert_eq!(one.fraction(7e8), Fraction::default());
+        // cells from sqrt_from on: the fraction of √x, dt/dx = 1/(2√x·(√x_(i+1) − √x_i))
+        let sqrt = AxisInterp::new(
+            &Axis {
+                sqrt_from: Some(4.0),
+                ..axis_of(vec![1.0, 4.0, 16.0])
+            },
+            Interpolation::Linear,
+        );
+        assert_eq!(
+            sqrt.fraction(9.0),
+            Fraction {
+                start: 1,
+                t: 0.5,
+                inv_h: 0.5 * 0.5 / 3.0
+            }
+        );
+        assert_eq!(sqrt.fraction(2.0).t, 1.0 / 3.0);
     }
 
     /// The offsets and weights of [`Offsets::of`] are those of [`Corners::of`]'s corners, in its order;

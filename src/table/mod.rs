@@ -1416,6 +1416,26 @@ mod tests {
         symmetric_multilinear(&l)
     }
 
+    /// [`tiny_axes`] with a third speed point, 20 m/s, and the cell 20–30 m/s interpolated in √V if `sqrt`.
+    fn sqrt_speeds(sqrt: bool) -> Axes {
+        let mut axes = tiny_axes();
+        axes.0[SPEED].points = vec![10.0, 20.0, 30.0];
+        axes.0[SPEED].sqrt_from = sqrt.then_some(20.0);
+        axes.validate().unwrap();
+        axes
+    }
+
+    /// [`symmetric_multilinear`] of s(V) = V up to 20 m/s, 20 + 2√20·(√V − √20) above (C¹ at 20 m/s)
+    /// instead of V: the data class of [`sqrt_speeds`] (linear in V in the first cell, in √V in the second).
+    fn symmetric_multilinear_in_sqrt_speed(c: &[f64; DIMS]) -> [f64; OUTPUTS] {
+        let mut l = *c;
+        let r = 20f64.sqrt();
+        if c[SPEED] > 20.0 {
+            l[SPEED] = 20.0 + 2.0 * r * (c[SPEED].sqrt() - r);
+        }
+        symmetric_multilinear(&l)
+    }
+
     /// `f` with its heat outputs read as what tables of `params` with `axes` interpolate: T_max's as the
     /// variable G ([`rise`]) and both T_max's and P_f/(F_N·V)'s per unit of the direction factor Λ of the
     /// point ([`heating`]). The table of the wrapped function stores T_max = G⁻¹(Λ·f's value) and Λ·f's
@@ -1462,6 +1482,21 @@ mod tests {
             (off - 50.0 * 2e-6 * 50e3 * (1.5f64.ln() / 2f64.ln() - 0.5)).abs() < 1e-4,
             "{off}"
         );
+        // speed cells in √V from sqrt_from on: exact for data linear in V below and in √V above; the
+        // same nodes interpolated in V miss them in the √V cell
+        let axes = sqrt_speeds(true);
+        let f_sqrt = in_rise(&params, &axes, symmetric_multilinear_in_sqrt_speed);
+        reproduces(&synthetic(&axes, &params, &f_sqrt), &f_sqrt);
+        let axes = sqrt_speeds(false);
+        let f_sqrt = in_rise(&params, &axes, symmetric_multilinear_in_sqrt_speed);
+        let t = synthetic(&axes, &params, &f_sqrt);
+        let c = [0.0, 0.0, 0.0, 75e3, 25.0, 0.5, 0.5, 0.7e9];
+        let (p, e) = at(&t, &c, 0.0);
+        let off = t.rise.of(t.evaluate(&p, &e).unwrap().max_temperature)
+            - symmetric_multilinear_in_sqrt_speed(&c)[3];
+        // G's speed term −0.15·s: s(25) = 20 + 2·(√500 − 20), the cell's middle in V (s(20) + s(30))/2 = √600
+        let missed = 20.0 + 2.0 * (500f64.sqrt() - 20.0) - 600f64.sqrt();
+        assert!((off - 0.15 * missed).abs() < 1e-4, "{off} {missed}");
     }
 
     /// The interpolant of `f` (a function the table reproduces exactly) and its Jacobian (through the

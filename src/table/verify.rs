@@ -113,11 +113,15 @@ pub fn sample_points(table: &Table, n: usize, seed: u64) -> Vec<Sample> {
                     lo + (hi - lo) * rng.uniform()
                 } else {
                     let i = rng.below(below.len() - 1);
-                    // the midpoint in the coordinate the axis interpolates in (ln x on log axes)
+                    // the midpoint in the coordinate the cell interpolates in (ln x on log axes, √x in
+                    // the cells from sqrt_from on)
+                    let (x0, x1) = (below[i], below[i + 1]);
                     let mid = if a.logarithmic {
-                        (below[i] * below[i + 1]).sqrt()
+                        (x0 * x1).sqrt()
+                    } else if a.cell_in_sqrt(i) {
+                        (0.5 * (x0.sqrt() + x1.sqrt())).powi(2)
                     } else {
-                        0.5 * (below[i] + below[i + 1])
+                        0.5 * (x0 + x1)
                     };
                     if a.mirrored && rng.uniform() < 0.5 {
                         -mid

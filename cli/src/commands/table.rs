@@ -562,7 +562,7 @@ fn info(dir: &Path) -> Result<()> {
     );
     for (dim, (a, d)) in f.axes.0.iter().zip(DIMENSIONS.iter()).enumerate() {
         println!(
-            "  {:<4} {:<13} {:>3} points, {:>10} .. {:<10} [{}] {:?}{}{}{}{}",
+            "  {:<4} {:<13} {:>3} points, {:>10} .. {:<10} [{}] {:?}{}{}{}{}{}",
             d.symbol,
             d.name,
             a.points.len(),
@@ -570,6 +570,10 @@ fn info(dir: &Path) -> Result<()> {
             a.max(),
             d.unit,
             a.interpolation(dim),
+            a.sqrt_from.map_or(String::new(), |x| format!(
+                " (in sqrt({}) from {x} on)",
+                d.symbol
+            )),
             if a.mirrored { ", mirrored" } else { "" },
             a.raw_limit
                 .map_or(String::new(), |l| format!(", raw limit {l}")),
