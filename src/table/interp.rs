@@ -488,7 +488,7 @@ enum CellCoordinate {
 pub struct AxisInterp {
     points: Vec<f64>,
     inv_h: Vec<f64>,
-    /// Linear axes: the coordinate each interval is linear in (empty for cubic axes).
+    /// Linear axes: the coordinate each interval is linear in (empty: x in every interval; cubic axes).
     cells: Vec<CellCoordinate>,
     /// Per interval (cubic axes only).
     cubic: Vec<CubicInterval>,
@@ -500,15 +500,14 @@ impl AxisInterp {
         let p = &axis.points;
         let n = p.len();
         let inv_h: Vec<f64> = p.windows(2).map(|w| 1.0 / (w[1] - w[0])).collect();
-        let cells = match kind {
-            Interpolation::Cubic => Vec::new(),
-            Interpolation::Log => p
+        let cells = match (kind, axis.sqrt_from) {
+            (Interpolation::Log, _) => p
                 .windows(2)
                 .map(|w| CellCoordinate::Log {
                     inv_ln: 1.0 / (w[1] / w[0]).ln(),
                 })
                 .collect(),
-            Interpolation::Linear => p
+            (Interpolation::Linear, Some(_)) => p
                 .windows(2)
                 .enumerate()
                 .map(|(i, w)| {
@@ -523,6 +522,8 @@ impl AxisInterp {
                     }
                 })
                 .collect(),
+            // x in every interval; cubic axes
+            _ => Vec::new(),
         };
         let cubic = match kind {
             Interpolation::Linear | Interpolation::Log => Vec::new(),
@@ -609,7 +610,7 @@ impl AxisInterp {
             return Fraction::default();
         }
         let (i, t) = self.locate(x);
-        match self.cells[i] {
+        match self.cells.get(i).copied().unwrap_or(CellCoordinate::Linear) {
             CellCoordinate::Linear => Fraction {
                 start: i,
                 t,
