@@ -570,6 +570,20 @@ impl AxisInterp {
         }
     }
 
+    /// The stored points whose values an evaluation in interval `i` reads along this axis: a cubic axis'
+    /// window (ghost points as the stored points they mirror), a linear axis' two ends; the point itself
+    /// for the last point (no interval) and on a single-point axis.
+    pub(crate) fn stencil(&self, i: usize) -> Vec<usize> {
+        let n = self.points.len();
+        if i + 1 >= n {
+            vec![i]
+        } else if let Some(c) = self.cubic.get(i) {
+            (0..4).map(|r| (c.start + r).unsigned_abs()).collect()
+        } else {
+            vec![i, i + 1]
+        }
+    }
+
     /// The coordinate clamped to the axis (lowest stored point to highest) and whether it was inside. On
     /// a single-point axis, inside means within a relative 1e-9 of the point (rounding of the coordinate's
     /// computation, e.g. p_ref of a Hertz contact at another load).

@@ -218,7 +218,10 @@ pub struct Table {
     rows: Vec<Row>,
     /// Per point in memory order: whether it converged (1) when the table was built.
     converged: Vec<u8>,
-    all_converged: bool,
+    /// Per point in memory order: 1 where an evaluation in the cell whose lowest corner it is may read an
+    /// unconverged point ([`near_unconverged`]: a superset, which `core` narrows to the corners of non-zero
+    /// weight); empty where every point converged.
+    near_unconverged: Vec<u8>,
     /// Per point in memory order: 1 where the cell whose lowest corner it is holds a jump of the model
     /// ([`TableOutput::resolved`], [`unresolved_cells`]); empty where every cell is resolved.
     unresolved: Vec<u8>,
@@ -324,13 +327,23 @@ impl Table {
         if unresolved.iter().all(|u| *u == 0) {
             unresolved = Vec::new();
         }
+        let mut near = Vec::new();
+        if files.converged.iter().any(|c| *c != 1) {
+            near = vec![0; n];
+            for (i, u) in near_unconverged(&shape, &files.converged, &interp)
+                .iter()
+                .enumerate()
+            {
+                near[memory[i]] = *u;
+            }
+        }
         Ok(Table {
             unresolved,
             bulk_temperature: files.sidecar.params.material.bulk_temperature,
             rise,
             coordinates,
             has_power: files.sidecar.format_version > 1,
-            all_converged: converged.iter().all(|c| *c == 1),
+            near_unconverged: near,
             converged,
             prefetch: n * std::mem::size_of::<Row>() > PREFETCH_ABOVE,
             sidecar: files.sidecar,
@@ -813,16 +826,19 @@ impl Table {
             linear_strides[k] = st[FORCE + k];
         }
         let n_phi = self.axes.0[PHI].points.len() as isize;
-        // the lowest corner of the point's cell, where its unresolved flag is kept
-        let resolved = self.unresolved.is_empty() || {
-            let cell = cx.lower() * st[XI]
+        // the lowest corner of the point's cell, where its flags are kept
+        let cell = || {
+            cx.lower() * st[XI]
                 + cy.lower() * st[ETA]
                 + k0.unsigned_abs() * st[PHI]
                 + (0..L)
                     .map(|k| fractions[k].start * linear_strides[k])
-                    .sum::<usize>();
-            self.unresolved.get(cell) == Some(&0)
+                    .sum::<usize>()
         };
+        let resolved = self.unresolved.is_empty() || self.unresolved.get(cell()) == Some(&0);
+        // whether the cell's stencil holds an unconverged point: then which corners of non-zero weight do
+        let check_converged =
+            !self.near_unconverged.is_empty() && self.near_unconverged.get(cell()) != Some(&0);
         // the linear corners' row offsets from the creepage node and weights (with the Jacobian, also the
         // weights' derivatives)
         // (a value reads only the corners of non-zero weight; the Jacobian needs every corner, whose
@@ -915,7 +931,7 @@ impl Table {
                         t1[i][j][o][L] = hdw[0] * y0 + hdw[1] * d0 + hdw[2] * y1 + hdw[3] * d1;
                     }
                 }
-                if !self.all_converged {
+                if check_converged {
                     // the nodes the value depends on (corners of non-zero weight), as in both paths
                     converged &= off.iter().zip(wl).all(|(o, w)| {
                         *w == 0.0
@@ -1146,6 +1162,40 @@ fn unresolved_cells(shape: &[usize; DIMS], t: &[f32], film: Option<&[u8]>) -> Ve
             u8::from(jump || onset)
         })
         .collect()
+}
+
+/// Per point of a table of `shape` (C order): 1 where an evaluation in the cell whose lowest corner it is may
+/// read a point that did not converge (`converged` ≠ 1): one pass per axis, each combining a point's
+/// stencil along the axis ([`AxisInterp::stencil`]; along φ̂ the rows at the interval's ends and, for the
+/// ghost η̂ points, their mirror images, see `core`), so the cell's flag covers the product of the stencils.
+fn near_unconverged(
+    shape: &[usize; DIMS],
+    converged: &[u8],
+    interp: &[AxisInterp; DIMS],
+) -> Vec<u8> {
+    let mut v: Vec<u8> = converged.iter().map(|c| u8::from(*c != 1)).collect();
+    for d in 0..DIMS {
+        let n = shape[d];
+        let stencils: Vec<Vec<usize>> = (0..n)
+            .map(|x| {
+                if d == PHI && x + 1 < n {
+                    vec![x, x + 1, n - 2 - x, n - 1 - x]
+                } else {
+                    interp[d].stencil(x)
+                }
+            })
+            .collect();
+        let stride: usize = shape[d + 1..].iter().product();
+        let previous = v.clone();
+        for (i, u) in v.iter_mut().enumerate() {
+            let x = (i / stride) % n;
+            let base = i - x * stride;
+            *u = stencils[x]
+                .iter()
+                .fold(0, |a, k| a | previous[base + k * stride]);
+        }
+    }
+    v
 }
 
 /// Per point of a table of `shape` (C order), `v` combined by `f` (associative and commutative: max, min,
@@ -2020,16 +2070,27 @@ mod tests {
         assert!(t.evaluate(&pt, &Ellipse { a: 0.0, ..e }).is_err());
     }
 
+    /// [`synthetic`] with the points of flat (C-order, the files') indices `unconverged` not converged.
+    fn synthetic_unconverged(
+        axes: &Axes,
+        params: &Params,
+        f: &dyn Fn(&[f64; DIMS]) -> [f64; OUTPUTS],
+        unconverged: &[usize],
+    ) -> Table {
+        let mut files = build::tabulate(params, axes, f);
+        for i in unconverged {
+            files.converged[*i] = 0;
+        }
+        Table::from_files(files, None).unwrap()
+    }
+
     #[test]
     fn unconverged_nodes_taint_only_nearby_evaluations() {
         let mut axes = tiny_axes();
         axes.0[XI].points = vec![0.0, 0.2, 0.6, 2.0, 6.0, 10.0];
         let params = coarse_params();
-        let mut t = synthetic(&axes, &params, &symmetric_multilinear);
         // flag the node at the largest coordinates
-        let last = axes.len() - 1;
-        t.converged[last] = 0;
-        t.all_converged = false;
+        let t = synthetic_unconverged(&axes, &params, &symmetric_multilinear, &[axes.len() - 1]);
         let near = [8.0, 3.5, 0.38, 90e3, 25.0, 0.9, 0.58, 0.83e9];
         let (p, e) = at(&t, &near, 0.0);
         assert!(!t.evaluate(&p, &e).unwrap().converged);
@@ -2038,6 +2099,57 @@ mod tests {
         far[XI] = 0.4;
         let (p, e) = at(&t, &far, 0.0);
         assert!(t.evaluate(&p, &e).unwrap().converged);
+    }
+
+    /// The cells flagged at loading as near an unconverged point ([`near_unconverged`]) hold every
+    /// evaluation that reads one: with four points unconverged, random evaluations (values and Jacobians,
+    /// both mirrors, every kind of cell) report `converged` as when every cell is checked corner by
+    /// corner — and the flags spare most cells that check.
+    #[test]
+    fn cells_near_unconverged_points_are_flagged_at_loading_as_every_evaluation_finds_them() {
+        let mut axes = tiny_axes();
+        axes.0[XI].points = vec![0.0, 0.2, 0.6, 2.0, 6.0, 10.0];
+        axes.0[ETA].points = vec![0.0, 0.3, 1.0, 2.0, 4.0];
+        axes.0[PHI].points = vec![-0.5, -0.3, -0.1, 0.0, 0.1, 0.3, 0.5];
+        axes.validate().unwrap();
+        let params = coarse_params();
+        let mut rng = verify::SplitMix64::new(11);
+        let mut bad: Vec<usize> = (0..3).map(|_| rng.below(axes.len())).collect();
+        // and one that only the ghost η̂ point −1 reads, where φ̂ runs backwards (η̂ 1, φ̂'s last point: in
+        // the window of η̂'s first cell, read at the φ̂ rows of its first cell)
+        let shape = axes.shape();
+        let creepage = shape[XI] * shape[ETA] * shape[PHI];
+        bad.push(((2 * shape[ETA] + 1) * shape[PHI] + shape[PHI] - 1) * (axes.len() / creepage));
+        let t = synthetic_unconverged(&axes, &params, &symmetric_multilinear, &bad);
+        let mut every = synthetic_unconverged(&axes, &params, &symmetric_multilinear, &bad);
+        every.near_unconverged.fill(1);
+        let flagged = t.near_unconverged.iter().filter(|u| **u != 0).count();
+        assert!(
+            flagged > 0 && flagged < t.near_unconverged.len() / 2,
+            "{flagged}"
+        );
+        let mut tainted = [0, 0];
+        for n in 0..20000 {
+            let mut c = random_coordinates(&mut rng);
+            // the nodes themselves and the cells' faces too (weights exactly 0)
+            if n % 4 == 0 {
+                for d in FORCE..DIMS {
+                    c[d] = axes.0[d].points[rng.below(2)];
+                }
+            }
+            let (p, e) = at(&t, &c, 0.0);
+            let fast = t.evaluate(&p, &e).unwrap().converged;
+            assert_eq!(fast, every.evaluate(&p, &e).unwrap().converged, "{c:?}");
+            let (o, _) = t.evaluate_with_jacobian(&p, &e).unwrap();
+            let (o_every, _) = every.evaluate_with_jacobian(&p, &e).unwrap();
+            assert_eq!(o.converged, o_every.converged, "{c:?}");
+            tainted[usize::from(fast)] += 1;
+        }
+        // both kinds occur
+        assert!(
+            tainted[0] > 100 && tainted[1] > 100,
+            "{tainted:?} of {flagged}"
+        );
     }
 
     /// A table stores quantities only the Tomberger law models: other laws are refused before any solve,
