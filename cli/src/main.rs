@@ -7,6 +7,13 @@ use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    // a closed output pipe (`wheelrail … | head`) ends the program quietly, as it does other Unix tools,
+    // instead of a panic at the next print
+    #[cfg(unix)]
+    // SAFETY: sets the default disposition of one signal at start-up, before any other thread exists.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let args = match commands::Cli::try_parse() {
         Ok(a) => a,
         Err(e) => {

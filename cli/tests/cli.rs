@@ -70,6 +70,26 @@ fn invalid_input_is_one_line_exit_2() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("bad.toml"));
 }
 
+/// A reader that stops reading (`wheelrail … | head`) ends the program quietly, without a panic.
+#[cfg(unix)]
+#[test]
+fn a_closed_output_pipe_ends_the_program_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_wheelrail"))
+        .args(["parameters", "--json"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run wheelrail");
+    // close the reading end before the program writes
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.is_empty(), "{err}");
+    assert_eq!(o.status.signal(), Some(13), "{:?}", o.status);
+}
+
 #[test]
 fn committed_parameter_docs_are_current() {
     let o = wheelrail(&["parameters", "--markdown"]);
