@@ -1187,12 +1187,18 @@ fn near_unconverged(
             .collect();
         let stride: usize = shape[d + 1..].iter().product();
         let previous = v.clone();
-        for (i, u) in v.iter_mut().enumerate() {
-            let x = (i / stride) % n;
-            let base = i - x * stride;
-            *u = stencils[x]
-                .iter()
-                .fold(0, |a, k| a | previous[base + k * stride]);
+        // blocks of the slower axes; in each, point x along the axis, then the faster axes
+        for (block, out) in previous
+            .chunks_exact(n * stride)
+            .zip(v.chunks_exact_mut(n * stride))
+        {
+            for (x, row) in out.chunks_exact_mut(stride).enumerate() {
+                for (inner, u) in row.iter_mut().enumerate() {
+                    *u = stencils[x]
+                        .iter()
+                        .fold(0, |a, k| a | block[k * stride + inner]);
+                }
+            }
         }
     }
     v
