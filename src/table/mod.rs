@@ -2139,8 +2139,8 @@ mod tests {
             let mut c = random_coordinates(&mut rng);
             // the nodes themselves and the cells' faces too (weights exactly 0)
             if n % 4 == 0 {
-                for d in FORCE..DIMS {
-                    c[d] = axes.0[d].points[rng.below(2)];
+                for (x, a) in c.iter_mut().zip(&axes.0).skip(FORCE) {
+                    *x = a.points[rng.below(2)];
                 }
             }
             let (p, e) = at(&t, &c, 0.0);
