@@ -76,14 +76,17 @@ fn invalid_input_is_one_line_exit_2() {
 fn a_closed_output_pipe_ends_the_program_quietly() {
     use std::os::unix::process::ExitStatusExt;
     use std::process::Stdio;
+    // the program reads its parameters (none: the defaults) from stdin before it writes, so the reading
+    // end of its output is closed before it writes, however slow the machine
     let mut child = Command::new(env!("CARGO_BIN_EXE_wheelrail"))
-        .args(["parameters", "--json"])
+        .args(["point", "--json", "--grid", "6,6", "--params", "/dev/stdin"])
+        .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .expect("run wheelrail");
-    // close the reading end before the program writes
     drop(child.stdout.take());
+    drop(child.stdin.take());
     let o = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.is_empty(), "{err}");
