@@ -174,6 +174,19 @@ pub struct Axis {
 }
 
 impl Axis {
+    /// A linear axis of `points` (not mirrored, no creepage limits, interpolated in x).
+    pub fn linear(points: Vec<f64>) -> Axis {
+        Axis {
+            points,
+            mirrored: false,
+            raw_limit: None,
+            raw_scale: None,
+            logarithmic: false,
+            similarity: false,
+            sqrt_from: None,
+        }
+    }
+
     /// Whether cell `i` (between points i and i + 1) is interpolated linearly in √x ([`Axis::sqrt_from`]).
     pub fn cell_in_sqrt(&self, i: usize) -> bool {
         self.sqrt_from.is_some_and(|x0| self.points[i] >= x0)

@@ -509,15 +509,7 @@ fn axes_of(sidecar: &Sidecar, path: &Path) -> Result<Axes> {
         let h = crate::solver::normal_contact(&sidecar.params, REFERENCE_FORCE)
             .map_err(|e| corrupt(path, format!("no contact for its parameters: {e}")))?;
         for x in [h.a / h.b, h.p0] {
-            axes.push(Axis {
-                points: vec![x],
-                mirrored: false,
-                raw_limit: None,
-                raw_scale: None,
-                logarithmic: false,
-                similarity: false,
-                sqrt_from: None,
-            });
+            axes.push(Axis::linear(vec![x]));
         }
     }
     let axes = Axes(axes.try_into().expect("eight axes"));

@@ -699,7 +699,7 @@ mod tests {
         AxisInterp::new(
             &Axis {
                 mirrored,
-                ..axis_of(points.to_vec())
+                ..Axis::linear(points.to_vec())
             },
             Interpolation::Cubic,
         )
@@ -844,22 +844,9 @@ mod tests {
         }
     }
 
-    /// A linear axis of `points`.
-    fn axis_of(points: Vec<f64>) -> Axis {
-        Axis {
-            points,
-            mirrored: false,
-            raw_limit: None,
-            raw_scale: None,
-            logarithmic: false,
-            similarity: false,
-            sqrt_from: None,
-        }
-    }
-
     #[test]
     fn linear_fractions_and_clamping() {
-        let axis = |points: Vec<f64>| AxisInterp::new(&axis_of(points), Interpolation::Linear);
+        let axis = |points: Vec<f64>| AxisInterp::new(&Axis::linear(points), Interpolation::Linear);
         let ai = axis(vec![1.0, 2.0, 4.0]);
         assert_eq!(
             ai.fraction(3.0),
@@ -883,7 +870,7 @@ mod tests {
         let sqrt = AxisInterp::new(
             &Axis {
                 sqrt_from: Some(4.0),
-                ..axis_of(vec![1.0, 4.0, 16.0])
+                ..Axis::linear(vec![1.0, 4.0, 16.0])
             },
             Interpolation::Linear,
         );
