@@ -263,7 +263,7 @@ pub struct AxisSpec {
     /// `points = [100e3]`, and the table serves every load whose equivalent speed lies on the axis.
     pub similarity: Option<bool>,
     /// Linear axes (not `"log"`): one of the points, from which on the cells are interpolated linearly in
-    /// √x (points > 0): the speed cells above ≈ 27 m/s, where T_max rises like the flash temperature
+    /// √x (points > 0): the speed cells from ≈ 11 m/s on, where T_max rises like the flash temperature
     /// (docs/model.md §12.3).
     pub sqrt_from: Option<f64>,
 }

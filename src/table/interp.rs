@@ -25,8 +25,8 @@
 //! the creep curves along the cubic axes). A single-point axis contributes nothing (its coordinate is that
 //! point). On a log axis ([`Interpolation::Log`]) the fraction is that of ln x, so the class reproduced
 //! exactly is affine (multilinear) in the logarithm of that coordinate; in the cells of a linear axis
-//! from its [`Axis::sqrt_from`] point up, that of √x (data linear in √x there, in x below). Measured on the format-1 default
-//! table (F_N, V, w linear): simplices over all three gave
+//! from its [`Axis::sqrt_from`] point up, that of √x (data linear in √x there, in x below). Measured on
+//! the format-1 default table (F_N, V, w linear): simplices over all three gave
 //! |ΔF|/F_N p99 1.1e-2 against 6e-3 multilinear; with (V, w) multilinear the results are the multilinear
 //! ones (F_N alone on the simplex is linear).
 
