@@ -218,13 +218,11 @@ pub struct Table {
     rows: Vec<Row>,
     /// Per point in memory order: whether it converged (1) when the table was built.
     converged: Vec<u8>,
-    /// Per point in memory order: 1 where an evaluation in the cell whose lowest corner it is may read an
-    /// unconverged point ([`near_unconverged`]: a superset, which `core` narrows to the corners of non-zero
-    /// weight); empty where every point converged.
-    near_unconverged: Vec<u8>,
-    /// Per point in memory order: 1 where the cell whose lowest corner it is holds a jump of the model
-    /// ([`TableOutput::resolved`], [`unresolved_cells`]); empty where every cell is resolved.
-    unresolved: Vec<u8>,
+    /// Per point in memory order, the flags of the cell whose lowest corner it is: [`UNRESOLVED`] where it
+    /// holds a jump of the model ([`TableOutput::resolved`], [`unresolved_cells`]), [`NEAR_UNCONVERGED`]
+    /// where an evaluation in it may read an unconverged point ([`near_unconverged`]: a superset, which
+    /// `core` narrows to the corners of non-zero weight); empty where no cell has either.
+    cell_flags: Vec<u8>,
     /// Whether lookups prefetch the rows of the next ξ̂ window node (tables larger than `PREFETCH_ABOVE`).
     prefetch: bool,
     bulk_temperature: f64,
@@ -317,33 +315,33 @@ impl Table {
         }
         let interp =
             std::array::from_fn(|d| AxisInterp::new(&axes.0[d], axes.0[d].interpolation(d)));
-        let mut unresolved = vec![0; n];
-        for (i, u) in unresolved_cells(&shape, &files.outputs[3], files.film_intake.as_deref())
-            .iter()
-            .enumerate()
-        {
-            unresolved[memory[i]] = *u;
-        }
-        if unresolved.iter().all(|u| *u == 0) {
-            unresolved = Vec::new();
-        }
-        let mut near = Vec::new();
-        if files.converged.iter().any(|c| *c != 1) {
-            near = vec![0; n];
-            for (i, u) in near_unconverged(&shape, &files.converged, &interp)
+        // the cells' flags in the files' order, then in memory order
+        let mut flags: Vec<u8> =
+            unresolved_cells(&shape, &files.outputs[3], files.film_intake.as_deref())
                 .iter()
-                .enumerate()
+                .map(|u| UNRESOLVED * u)
+                .collect();
+        if files.converged.iter().any(|c| *c != 1) {
+            for (f, u) in flags
+                .iter_mut()
+                .zip(near_unconverged(&shape, &files.converged, &interp))
             {
-                near[memory[i]] = *u;
+                *f |= NEAR_UNCONVERGED * u;
+            }
+        }
+        let mut cell_flags = Vec::new();
+        if flags.iter().any(|f| *f != 0) {
+            cell_flags = vec![0; n];
+            for (m, f) in memory.iter().zip(flags) {
+                cell_flags[*m] = f;
             }
         }
         Ok(Table {
-            unresolved,
+            cell_flags,
             bulk_temperature: files.sidecar.params.material.bulk_temperature,
             rise,
             coordinates,
             has_power: files.sidecar.format_version > 1,
-            near_unconverged: near,
             converged,
             prefetch: n * std::mem::size_of::<Row>() > PREFETCH_ABOVE,
             sidecar: files.sidecar,
@@ -826,19 +824,24 @@ impl Table {
             linear_strides[k] = st[FORCE + k];
         }
         let n_phi = self.axes.0[PHI].points.len() as isize;
-        // the lowest corner of the point's cell, where its flags are kept
-        let cell = || {
-            cx.lower() * st[XI]
+        // the flags of the point's cell, kept at its lowest corner
+        let flags = if self.cell_flags.is_empty() {
+            0
+        } else {
+            let cell = cx.lower() * st[XI]
                 + cy.lower() * st[ETA]
                 + k0.unsigned_abs() * st[PHI]
                 + (0..L)
                     .map(|k| fractions[k].start * linear_strides[k])
-                    .sum::<usize>()
+                    .sum::<usize>();
+            self.cell_flags
+                .get(cell)
+                .copied()
+                .unwrap_or(UNRESOLVED | NEAR_UNCONVERGED)
         };
-        let resolved = self.unresolved.is_empty() || self.unresolved.get(cell()) == Some(&0);
+        let resolved = flags & UNRESOLVED == 0;
         // whether the cell's stencil holds an unconverged point: then which corners of non-zero weight do
-        let check_converged =
-            !self.near_unconverged.is_empty() && self.near_unconverged.get(cell()) != Some(&0);
+        let check_converged = flags & NEAR_UNCONVERGED != 0;
         // the linear corners' row offsets from the creepage node and weights (with the Jacobian, also the
         // weights' derivatives)
         // (a value reads only the corners of non-zero weight; the Jacobian needs every corner, whose
@@ -1141,6 +1144,11 @@ unsafe fn corner_sum_avx2<const PAIR: bool>(
     }
     out
 }
+
+/// Flag of a cell holding a jump of the model ([`unresolved_cells`]).
+const UNRESOLVED: u8 = 1;
+/// Flag of a cell whose stencil holds an unconverged point ([`near_unconverged`]).
+const NEAR_UNCONVERGED: u8 = 2;
 
 /// Per point of a table of `shape` (C order), 1 where the cell whose lowest corner it is holds a jump of
 /// the model that no interpolation follows ([`TableOutput::resolved`]): the stored T_max `t` [K] at the
@@ -1662,7 +1670,7 @@ mod tests {
     fn cells_across_which_t_max_jumps_are_not_resolved() {
         let params = coarse_params();
         let smooth = synthetic(&tiny_axes(), &params, &symmetric_saturating);
-        assert!(smooth.unresolved.is_empty());
+        assert!(smooth.cell_flags.is_empty());
         // T_max 400 K higher at the last ξ̂ node (10): the cells between ξ̂ = 1 and 10 hold the jump, for
         // both signs of ξ (the axis is mirrored); the smooth variation spreads by < 100 K across any cell
         let jump = |c: &[f64; DIMS]| {
@@ -1721,7 +1729,7 @@ mod tests {
             }
         };
         let all = with_film_intake(&tiny_axes(), &symmetric_saturating, &covered);
-        assert!(all.unresolved.is_empty());
+        assert!(all.cell_flags.is_empty());
         let mut rng = verify::SplitMix64::new(5);
         let mut seen = [0; 2];
         for _ in 0..500 {
@@ -2128,12 +2136,16 @@ mod tests {
         bad.push(((2 * shape[ETA] + 1) * shape[PHI] + shape[PHI] - 1) * (axes.len() / creepage));
         let t = synthetic_unconverged(&axes, &params, &symmetric_multilinear, &bad);
         let mut every = synthetic_unconverged(&axes, &params, &symmetric_multilinear, &bad);
-        every.near_unconverged.fill(1);
-        let flagged = t.near_unconverged.iter().filter(|u| **u != 0).count();
-        assert!(
-            flagged > 0 && flagged < t.near_unconverged.len() / 2,
-            "{flagged}"
-        );
+        every
+            .cell_flags
+            .iter_mut()
+            .for_each(|f| *f |= NEAR_UNCONVERGED);
+        let flagged = t
+            .cell_flags
+            .iter()
+            .filter(|f| **f & NEAR_UNCONVERGED != 0)
+            .count();
+        assert!(flagged > 0 && flagged < t.cell_flags.len() / 2, "{flagged}");
         let mut tainted = [0, 0];
         for n in 0..20000 {
             let mut c = random_coordinates(&mut rng);
