@@ -763,6 +763,12 @@ mod tests {
         assert_eq!((p[0], p[4]), (10.0, 1000.0));
     }
 
+    /// The error of an axes file (TOML) that must be refused.
+    fn refusal(toml: &str) -> String {
+        let spec: AxesSpec = toml::from_str(toml).unwrap();
+        Axes::from_spec(&spec).unwrap_err().to_string()
+    }
+
     #[test]
     fn bad_axes_are_rejected_with_the_axis_name() {
         let spec = AxesSpec {
@@ -873,8 +879,7 @@ mod tests {
                 "speed",
             ),
         ] {
-            let spec: AxesSpec = toml::from_str(toml).unwrap();
-            let e = Axes::from_spec(&spec).unwrap_err().to_string();
+            let e = refusal(toml);
             assert!(e.contains(name) && e.contains("log"), "{e}");
         }
     }
@@ -901,8 +906,7 @@ mod tests {
             "[wetness]\npoints = [0.0, 0.5, 1.0]\nsqrt_from = 0.0",
             "[spin]\nmin = -1.6\nmax = 1.6\ncount = 5\nraw_limit = 1.0\nsqrt_from = 0.0",
         ] {
-            let spec: AxesSpec = toml::from_str(toml).unwrap();
-            let e = Axes::from_spec(&spec).unwrap_err().to_string();
+            let e = refusal(toml);
             assert!(e.contains("sqrt_from"), "{toml}: {e}");
         }
     }
@@ -933,8 +937,7 @@ mod tests {
                 "normal_force",
             ),
         ] {
-            let spec: AxesSpec = toml::from_str(toml).unwrap();
-            let e = Axes::from_spec(&spec).unwrap_err().to_string();
+            let e = refusal(toml);
             assert!(e.contains(name) && e.contains("similarity"), "{e}");
         }
     }
