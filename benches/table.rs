@@ -1,34 +1,26 @@
 //! Lookup time of tables (issue 5 target: all outputs ≤ 1 µs; issue 13: ≤ 0.5 µs with the contact
 //! geometry of every step), single thread:
 //! - the bundled default table (fmu/resources/table) at random points and cell midpoints of its ranges;
-//! - a table over contact geometry as large as the caches are not (3 million points, 150 MB in memory,
-//!   values of a smooth synthetic function: the lookup cost does not depend on the values) at random
-//!   contacts, loads, speeds, wetness and creepages.
+//! - a table on the nodes of the whole-range table (tools/whole-range-axes.toml: 31 million points,
+//!   1.5 GB in memory; values of a smooth synthetic function, as the lookup cost does not depend on them):
+//!   one wet point again and again (an MBS contact whose stencil stays cached), a new contact ellipse
+//!   every evaluation around the default one (the FMU bench's random-geometry case: a few cells), and
+//!   random points all over the table (every stencil from memory: the worst case, many contacts far
+//!   apart).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::path::Path;
 use wheelrail::Params;
-use wheelrail::table::verify::sample_points;
-use wheelrail::table::{Axes, AxesSpec, AxisSpec, Kernel, Table, tabulate};
+use wheelrail::OperatingPoint;
+use wheelrail::table::coords::{Ellipse, semi_axes};
+use wheelrail::table::verify::{SplitMix64, sample_points};
+use wheelrail::table::{Axes, Kernel, Table, tabulate};
 
-/// A table over geometry with the default creepage axes and coarser linear axes.
-fn geometry_table() -> Table {
-    let points = |p: &[f64]| {
-        Some(AxisSpec {
-            points: Some(p.to_vec()),
-            ..Default::default()
-        })
-    };
-    let axes = Axes::from_spec(&AxesSpec {
-        normal_force: points(&[10e3, 30e3, 80e3, 250e3]),
-        speed: points(&[1.0, 5.0, 20.0, 50.0, 100.0]),
-        wetness: points(&[0.0, 0.003, 0.01, 0.03, 0.1, 0.3, 1.0]),
-        semi_axis_ratio: points(&[0.2, 0.6, 1.7, 5.0]),
-        reference_pressure: points(&[0.15e9, 0.4e9, 1.0e9, 2.5e9]),
-        ..Default::default()
-    })
-    .expect("axes");
+/// A table on the nodes of the whole-range table (by similarity: 12 linear corners).
+fn whole_range_table() -> Table {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/whole-range-axes.toml");
+    let axes = Axes::from_toml_file(&file).expect("the whole-range axes");
     let files = tabulate(&Params::default(), &axes, &|q| {
         let sat = |x: f64| (x / 0.4).tanh();
         let lin = 1.0 - 0.001 * q[4] - 0.3 * q[5];
@@ -86,10 +78,41 @@ fn bench(c: &mut Criterion) {
         })
     });
     drop(table);
-    // random contact geometry every evaluation
-    let table = geometry_table();
-    let points = sample_points(&table, 4096, 2);
-    g.bench_function("evaluate_random_geometry", |b| {
+    let table = whole_range_table();
+    // wet, all three creepages off their nodes, every linear corner weighted (the stencil in full)
+    let wet = OperatingPoint {
+        creepage_x: 0.003,
+        creepage_y: 0.002,
+        spin: 0.1,
+        normal_force: 100e3,
+        speed: 30.0,
+        wetness: 0.07,
+    };
+    let ellipse = |[a, b]: [f64; 2]| Ellipse {
+        a,
+        b,
+        load_exponent: 0.0,
+    };
+    let default_contact = ellipse(semi_axes(0.558, 0.771e9, 100e3));
+    g.bench_function("whole-range nodes/evaluate_same_point_wet", |b| {
+        b.iter(|| table.evaluate(black_box(&wet), &default_contact).unwrap())
+    });
+    let mut rng = SplitMix64::new(13);
+    let contacts: Vec<Ellipse> = (0..1024)
+        .map(|_| {
+            let ratio = 0.5 + 0.1 * rng.uniform();
+            let p_ref = 0.70e9 + 0.15e9 * rng.uniform();
+            ellipse(semi_axes(ratio, p_ref, 100e3))
+        })
+        .collect();
+    g.bench_function("whole-range nodes/evaluate_random_geometry_wet", |b| {
+        b.iter(|| {
+            i = (i + 1) % contacts.len();
+            table.evaluate(black_box(&wet), &contacts[i]).unwrap()
+        })
+    });
+    let points = sample_points(&table, 1 << 16, 2);
+    g.bench_function("whole-range nodes/evaluate_random_points", |b| {
         b.iter(|| {
             i = (i + 1) % points.len();
             let s = &points[i];

@@ -152,6 +152,17 @@ const _: () = assert!(std::mem::size_of::<Row>() == ROW * 4);
 /// the caches, where prefetches are pure overhead) [bytes].
 const PREFETCH_ABOVE: usize = 8 << 20;
 
+thread_local! {
+    /// The rows (by [`rows_id`]) and the cell of this thread's last lookup in a table that prefetches.
+    static LAST_CELL: std::cell::Cell<(usize, usize)> = const { std::cell::Cell::new((0, usize::MAX)) };
+}
+
+/// An identity of a table's rows while they live: their address. (A table allocated where a dropped one
+/// was may find the dropped one's last cell: one lookup then skips its prefetches, which only hint.)
+fn rows_id(rows: &[Row]) -> usize {
+    rows.as_ptr() as usize
+}
+
 /// Positions in a row of output o's value and of its φ slope: values and slopes of outputs 0–1, 2–3 and 4–5
 /// alternate in pairs. So the pairs a 16-byte vector holds are both values or both slopes, which keeps the
 /// Hermite stage in registers.
@@ -824,20 +835,26 @@ impl Table {
             linear_strides[k] = st[FORCE + k];
         }
         let n_phi = self.axes.0[PHI].points.len() as isize;
-        // the flags of the point's cell, kept at its lowest corner
+        // the point's cell, by its lowest corner (which keeps the cell's flags)
+        let cell = cx.lower() * st[XI]
+            + cy.lower() * st[ETA]
+            + k0.unsigned_abs() * st[PHI]
+            + (0..L)
+                .map(|k| fractions[k].start * linear_strides[k])
+                .sum::<usize>();
         let flags = if self.cell_flags.is_empty() {
             0
         } else {
-            let cell = cx.lower() * st[XI]
-                + cy.lower() * st[ETA]
-                + k0.unsigned_abs() * st[PHI]
-                + (0..L)
-                    .map(|k| fractions[k].start * linear_strides[k])
-                    .sum::<usize>();
             self.cell_flags
                 .get(cell)
                 .copied()
                 .unwrap_or(UNRESOLVED | NEAR_UNCONVERGED)
+        };
+        // prefetch only when this thread's previous lookup was in another cell (or table): in the same
+        // cell the stencil is that lookup's, still in the caches
+        let prefetch = self.prefetch && {
+            let key = (rows_id(&self.rows), cell);
+            LAST_CELL.with(|last| last.replace(key) != key)
         };
         let resolved = flags & UNRESOLVED == 0;
         // whether the cell's stencil holds an unconverged point: then which corners of non-zero weight do
@@ -870,7 +887,7 @@ impl Table {
         let mut converged = true;
         // prefetch the corner rows of ξ window node i + 1 (all η, both φ ends) while node i is computed: on a
         // table far larger than the caches the loads then find their lines on the way
-        let prefetch = |i: isize| {
+        let prefetch_node = |i: isize| {
             #[cfg(target_arch = "x86_64")]
             {
                 use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
@@ -894,8 +911,8 @@ impl Table {
         };
 
         for i in 0..4 {
-            if self.prefetch && i < 3 {
-                prefetch(i as isize + 1);
+            if prefetch && i < 3 {
+                prefetch_node(i as isize + 1);
             }
             let gi = cx.start + i as isize;
             let (ii, fx) = (gi.unsigned_abs(), gi < 0);
