@@ -149,7 +149,8 @@ struct Row([f32; ROW]);
 const _: () = assert!(std::mem::size_of::<Row>() == ROW * 4);
 
 /// Tables whose rows take more memory than this are prefetched during a lookup (a smaller table stays in
-/// the caches, where prefetches are pure overhead) [bytes].
+/// the caches, where prefetches are pure overhead), by a lookup in another cell than the thread's previous
+/// one ([`LAST_CELL`]) [bytes].
 const PREFETCH_ABOVE: usize = 8 << 20;
 
 thread_local! {
@@ -234,7 +235,8 @@ pub struct Table {
     /// where an evaluation in it may read an unconverged point ([`near_unconverged`]: a superset, which
     /// `core` narrows to the corners of non-zero weight); empty where no cell has either.
     cell_flags: Vec<u8>,
-    /// Whether lookups prefetch the rows of the next ξ̂ window node (tables larger than `PREFETCH_ABOVE`).
+    /// Whether lookups prefetch the rows of the next ξ̂ window node (tables larger than `PREFETCH_ABOVE`;
+    /// only in another cell than the thread's previous lookup).
     prefetch: bool,
     bulk_temperature: f64,
     /// The variable T_max is interpolated in: `rows` hold G(T_max) ([`RiseVariable`]).
