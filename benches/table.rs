@@ -11,8 +11,8 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::path::Path;
-use wheelrail::Params;
 use wheelrail::OperatingPoint;
+use wheelrail::Params;
 use wheelrail::table::coords::{Ellipse, semi_axes};
 use wheelrail::table::verify::{SplitMix64, sample_points};
 use wheelrail::table::{Axes, Kernel, Table, tabulate};
