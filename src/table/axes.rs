@@ -963,10 +963,20 @@ mod tests {
             let limit = if w[1] <= 0.76e9 { 1.5 + 1e-9 } else { 1.105 };
             assert!(w[1] / w[0] <= limit, "{w:?}");
         }
-        // the same creepage, speed and wetness axes as the running surface's
-        for d in [XI, ETA, PHI, SPEED, WET] {
+        // the same creepage, speed and wetness axes as the running surface's, but for the spin's nodes:
+        // the same count, range and raw limit, denser near 0 (the whole range's small contacts, a/b 0.2,
+        // reach only |φ̂| ≤ 0.15 at the raw limit)
+        for d in [XI, ETA, SPEED, WET] {
             assert_eq!(whole.0[d], surface.0[d], "{d}");
         }
+        let (w, s) = (&whole.0[PHI], &surface.0[PHI]);
+        assert_eq!(
+            (w.points.len(), w.min(), w.max()),
+            (s.points.len(), s.min(), s.max())
+        );
+        assert_eq!((w.raw_limit, w.raw_scale), (s.raw_limit, s.raw_scale));
+        let near_zero = |a: &Axis| a.points.iter().filter(|x| (0.0..0.12).contains(*x)).count();
+        assert_eq!((near_zero(s), near_zero(w)), (2, 3));
     }
 
     #[test]
