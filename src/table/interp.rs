@@ -404,6 +404,20 @@ impl CubicStencil {
         out
     }
 
+    /// The window node beyond the interval on its upper (`upper`) or lower side, if the window has one,
+    /// as `(beyond, near, far, r)`: setting y_beyond = (1 + r)·y_near − r·y_far makes the secant from the
+    /// interval's end to it the interval's own secant, so that Steffen's slope at that end is the
+    /// interval's secant (a one-sided slope: the data beyond no longer bend the interval's spline).
+    #[inline(always)]
+    pub fn beyond(&self, upper: bool) -> Option<(usize, usize, usize, f64)> {
+        let a = self.a;
+        if upper {
+            (a + 2 <= 3 && !self.last).then(|| (a + 2, a + 1, a, self.inv_h[a] / self.inv_h[a + 1]))
+        } else {
+            (a >= 1 && !self.first).then(|| (a - 1, a, a + 1, self.inv_h[a] / self.inv_h[a - 1]))
+        }
+    }
+
     /// The interval's lower node (stored index; the window's second point).
     #[inline(always)]
     pub fn lower(&self) -> usize {

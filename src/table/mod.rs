@@ -824,7 +824,9 @@ impl Table {
     /// monotone splines along η̂ and ξ̂ evaluated on the contracted values. With derivatives, each stage
     /// carries them forward (the fibre weights are the partial derivatives, see `interp`). Ghost points of
     /// mirrored axes read the mirror-image point (φ̂ index reversed by the η mirror, which also reverses the
-    /// φ̂ slope) with the symmetry's output signs.
+    /// φ̂ slope) with the symmetry's output signs. Next to an unresolved cell along η̂ or ξ̂ (a jump of the
+    /// model) the spline takes the one-sided slope at the shared node: the window node beyond is replaced by
+    /// the extrapolation of the cell's secant ([`interp::CubicStencil::beyond`]; docs/model.md §12.3).
     #[inline(always)]
     fn core<const JAC: bool, const FMA: bool>(&self, q: &[f64; DIMS]) -> Core {
         const L: usize = LINEAR_DIMS;
@@ -965,6 +967,41 @@ impl Table {
                 }
             }
         }
+        // next to a cell that holds a jump of the model (unresolved), the spline of this cell takes the
+        // one-sided slope at the shared node: the window's node beyond is replaced by the extrapolation of
+        // this cell's secant (its values, and with the Jacobian their derivatives)
+        let unresolved_beyond = |axis: usize, lower_node: usize, n: usize, upper: bool| {
+            let neighbour = if upper {
+                (lower_node + 2 < n).then(|| cell + st[axis])
+            } else {
+                (lower_node >= 1).then(|| cell - st[axis])
+            };
+            neighbour
+                .and_then(|c| self.cell_flags.get(c))
+                .is_some_and(|f| f & UNRESOLVED != 0)
+        };
+        if !self.cell_flags.is_empty() {
+            let n_eta = self.axes.0[ETA].points.len();
+            for upper in [false, true] {
+                if unresolved_beyond(ETA, cy.lower(), n_eta, upper)
+                    && let Some((b, near, far, r)) = cy.beyond(upper)
+                {
+                    let (n, f) = (c1[near], c1[far]);
+                    extrapolate(&mut c1[b], &n, &f, r);
+                    if JAC {
+                        for ti in t1.iter_mut() {
+                            let (n, f) = (ti[near], ti[far]);
+                            extrapolate(
+                                ti[b].as_flattened_mut(),
+                                n.as_flattened(),
+                                f.as_flattened(),
+                                r,
+                            );
+                        }
+                    }
+                }
+            }
+        }
         // stage 2: along η, all 4·OUTPUTS fibres at once; derivatives (F_N, V, w, a/b, p_ref, φ, η)
         let mut c2 = [[0.0; OUTPUTS]; 4];
         let mut t2 = [[[0.0; L + 2]; OUTPUTS]; 4];
@@ -983,6 +1020,26 @@ impl Table {
             let flat = cy.value(&c1);
             for (i, c) in c2.iter_mut().enumerate() {
                 c.copy_from_slice(&flat[i * OUTPUTS..(i + 1) * OUTPUTS]);
+            }
+        }
+        if !self.cell_flags.is_empty() {
+            let n_xi = self.axes.0[XI].points.len();
+            for upper in [false, true] {
+                if unresolved_beyond(XI, cx.lower(), n_xi, upper)
+                    && let Some((b, near, far, r)) = cx.beyond(upper)
+                {
+                    let (n, f) = (c2[near], c2[far]);
+                    extrapolate(&mut c2[b], &n, &f, r);
+                    if JAC {
+                        let (n, f) = (t2[near], t2[far]);
+                        extrapolate(
+                            t2[b].as_flattened_mut(),
+                            n.as_flattened(),
+                            f.as_flattened(),
+                            r,
+                        );
+                    }
+                }
             }
         }
         // stage 3: along ξ
@@ -1008,6 +1065,15 @@ impl Table {
             converged,
             resolved,
         }
+    }
+}
+
+/// y = (1 + r)·near − r·far, element by element: the linear extrapolation of a cubic window's interval to
+/// the node beyond it ([`interp::CubicStencil::beyond`]).
+#[inline(always)]
+fn extrapolate(y: &mut [f64], near: &[f64], far: &[f64], r: f64) {
+    for ((y, n), f) in y.iter_mut().zip(near).zip(far) {
+        *y = (1.0 + r) * n - r * f;
     }
 }
 
@@ -2210,6 +2276,82 @@ mod tests {
     /// evaluation that reads one: with four points unconverged, random evaluations (values and Jacobians,
     /// both mirrors, every kind of cell) report `converged` as when every cell is checked corner by
     /// corner — and the flags spare most cells that check.
+    #[test]
+    fn a_cell_next_to_an_unresolved_cell_takes_one_sided_slopes_at_their_shared_node() {
+        // data linear in ξ̂ (η̂) on the stored side, T_max's variable G too, but for a jump of G at the last
+        // node, which makes the last cell unresolved: the cell before it reproduces the data exactly (its
+        // spline no longer takes up to twice its secant as the slope at the shared node), values and
+        // Jacobian
+        let params = coarse_params();
+        for (axis, points, last, cell) in [
+            (XI, &[0.0, 1.0, 2.0, 4.0, 10.0][..], 10.0, [2.0, 4.0]),
+            (ETA, &[0.0, 0.6, 1.5, 4.0, 9.0][..], 9.0, [1.5, 4.0]),
+        ] {
+            let mut pts: [&[f64]; DIMS] = [
+                &[0.0, 1.0, 10.0],
+                &[0.0, 0.6, 4.0],
+                &[-0.5, -0.1, 0.1, 0.5],
+                &[50e3, 100e3],
+                &[10.0, 30.0],
+                &[0.0, 1.0],
+                &[0.5, 0.6],
+                &[0.7e9, 0.85e9],
+            ];
+            pts[axis] = points;
+            let axes = explicit_axes(pts, [0.1, 0.03, 2.0]);
+            let linear = move |c: &[f64; DIMS]| {
+                let mut o = symmetric_multilinear(c);
+                o[3] += 5.0 * c[axis].abs();
+                o
+            };
+            let jump = move |c: &[f64; DIMS]| {
+                let mut o = linear(c);
+                o[3] += if c[axis].abs() >= last { 800.0 } else { 0.0 };
+                o
+            };
+            let t = synthetic(&axes, &params, &in_rise(&params, &axes, jump));
+            let want = in_rise(&params, &axes, linear);
+            let mut rng = verify::SplitMix64::new(23);
+            for n in 0..200 {
+                let mut c = random_coordinates(&mut rng);
+                c[axis] = cell[0] + (cell[1] - cell[0]) * rng.uniform();
+                let (p, e) = at(&t, &c, 0.0);
+                let (o, j) = t.evaluate_with_jacobian(&p, &e).unwrap();
+                assert!(o.resolved, "{c:?}");
+                let w = want(&c);
+                let f = c[FORCE];
+                assert!((o.force_x / f - w[0]).abs() < 1e-6, "{axis} {c:?}");
+                assert!((o.force_y / f - w[1]).abs() < 1e-6, "{axis} {c:?}");
+                assert!(
+                    (o.max_temperature - w[3]).abs() < 1e-3,
+                    "{axis} {c:?}: {} vs {}",
+                    o.max_temperature,
+                    w[3]
+                );
+                // the Jacobian's T_max column along the axis: the derivative of the same linear data
+                if n % 10 == 0 {
+                    let d = if axis == XI { 0 } else { 1 };
+                    let h = 1e-8;
+                    let value = |h: f64| {
+                        let (p, e) = moved(&p, &e, d, h);
+                        t.evaluate(&p, &e).unwrap().max_temperature
+                    };
+                    let fd = (value(h) - value(-h)) / (2.0 * h);
+                    assert!(
+                        (j[4][d] - fd).abs() < 1e-4 * fd.abs().max(1.0),
+                        "{} vs {fd}",
+                        j[4][d]
+                    );
+                }
+            }
+            // the cell beyond holds the jump
+            let mut c = random_coordinates(&mut rng);
+            c[axis] = 0.5 * (cell[1] + last);
+            let (p, e) = at(&t, &c, 0.0);
+            assert!(!t.evaluate(&p, &e).unwrap().resolved);
+        }
+    }
+
     #[test]
     fn xi_slabs_are_padded_so_that_no_l1_set_holds_more_of_a_lookup_than_its_ways() {
         // the whole-range table: 1 488 384 rows of 48 bytes per ξ̂ slab, a multiple of 4 KB (17 442 pages)
