@@ -38,7 +38,7 @@ use crate::error::{Error, Result};
 use crate::params::{OperatingPoint, Params};
 use crate::solver::{GlobalResults, Solution, SolverReport};
 use axes::{ETA, FORCE, LINEAR_DIMS, PHI, PRESSURE, RATIO, SPEED, WET, XI};
-use interp::{AxisInterp, CORNERS, Corners, Fraction, Offsets};
+use interp::{AxisInterp, CORNERS, Corners, CubicStencil, Fraction, Offsets};
 use rise::RiseVariable;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -970,35 +970,30 @@ impl Table {
         // next to a cell that holds a jump of the model (unresolved), the spline of this cell takes the
         // one-sided slope at the shared node: the window's node beyond is replaced by the extrapolation of
         // this cell's secant (its values, and with the Jacobian their derivatives)
-        let unresolved_beyond = |axis: usize, lower_node: usize, n: usize, upper: bool| {
-            let neighbour = if upper {
-                (lower_node + 2 < n).then(|| cell + st[axis])
-            } else {
-                (lower_node >= 1).then(|| cell - st[axis])
-            };
-            neighbour
-                .and_then(|c| self.cell_flags.get(c))
-                .is_some_and(|f| f & UNRESOLVED != 0)
+        let beyond_unresolved = |axis: usize, window: &CubicStencil| {
+            let n = self.axes.0[axis].points.len();
+            [false, true].map(|upper| {
+                let lower = window.lower();
+                let neighbour = if upper {
+                    (lower + 2 < n).then(|| cell + st[axis])
+                } else {
+                    (lower >= 1).then(|| cell - st[axis])
+                };
+                let unresolved = neighbour
+                    .and_then(|c| self.cell_flags.get(c))
+                    .is_some_and(|f| f & UNRESOLVED != 0);
+                if unresolved {
+                    window.beyond(upper)
+                } else {
+                    None
+                }
+            })
         };
-        if !self.cell_flags.is_empty() {
-            let n_eta = self.axes.0[ETA].points.len();
-            for upper in [false, true] {
-                if unresolved_beyond(ETA, cy.lower(), n_eta, upper)
-                    && let Some((b, near, far, r)) = cy.beyond(upper)
-                {
-                    let (n, f) = (c1[near], c1[far]);
-                    extrapolate(&mut c1[b], &n, &f, r);
-                    if JAC {
-                        for ti in t1.iter_mut() {
-                            let (n, f) = (ti[near], ti[far]);
-                            extrapolate(
-                                ti[b].as_flattened_mut(),
-                                n.as_flattened(),
-                                f.as_flattened(),
-                                r,
-                            );
-                        }
-                    }
+        for node in beyond_unresolved(ETA, &cy).into_iter().flatten() {
+            extrapolate(&mut c1, node);
+            if JAC {
+                for ti in t1.iter_mut() {
+                    extrapolate(ti, node);
                 }
             }
         }
@@ -1022,24 +1017,10 @@ impl Table {
                 c.copy_from_slice(&flat[i * OUTPUTS..(i + 1) * OUTPUTS]);
             }
         }
-        if !self.cell_flags.is_empty() {
-            let n_xi = self.axes.0[XI].points.len();
-            for upper in [false, true] {
-                if unresolved_beyond(XI, cx.lower(), n_xi, upper)
-                    && let Some((b, near, far, r)) = cx.beyond(upper)
-                {
-                    let (n, f) = (c2[near], c2[far]);
-                    extrapolate(&mut c2[b], &n, &f, r);
-                    if JAC {
-                        let (n, f) = (t2[near], t2[far]);
-                        extrapolate(
-                            t2[b].as_flattened_mut(),
-                            n.as_flattened(),
-                            f.as_flattened(),
-                            r,
-                        );
-                    }
-                }
+        for node in beyond_unresolved(XI, &cx).into_iter().flatten() {
+            extrapolate(&mut c2, node);
+            if JAC {
+                extrapolate(&mut t2, node);
             }
         }
         // stage 3: along ξ
@@ -1068,11 +1049,41 @@ impl Table {
     }
 }
 
-/// y = (1 + r)·near − r·far, element by element: the linear extrapolation of a cubic window's interval to
-/// the node beyond it ([`interp::CubicStencil::beyond`]).
+/// Window values of a cubic stage (per window node: a flat array of lanes, or per lane its derivatives).
+trait Lanes: Copy {
+    fn lanes(&self) -> &[f64];
+    fn lanes_mut(&mut self) -> &mut [f64];
+}
+
+impl<const N: usize> Lanes for [f64; N] {
+    fn lanes(&self) -> &[f64] {
+        self
+    }
+    fn lanes_mut(&mut self) -> &mut [f64] {
+        self
+    }
+}
+
+impl<const N: usize, const M: usize> Lanes for [[f64; N]; M] {
+    fn lanes(&self) -> &[f64] {
+        self.as_flattened()
+    }
+    fn lanes_mut(&mut self) -> &mut [f64] {
+        self.as_flattened_mut()
+    }
+}
+
+/// The window node `beyond` of [`interp::CubicStencil::beyond`], (beyond, near, far, r), set to the linear
+/// extrapolation of the window's interval, y_beyond = (1 + r)·y_near − r·y_far, in every lane.
 #[inline(always)]
-fn extrapolate(y: &mut [f64], near: &[f64], far: &[f64], r: f64) {
-    for ((y, n), f) in y.iter_mut().zip(near).zip(far) {
+fn extrapolate<T: Lanes>(window: &mut [T; 4], (beyond, near, far, r): (usize, usize, usize, f64)) {
+    let (n, f) = (window[near], window[far]);
+    for ((y, n), f) in window[beyond]
+        .lanes_mut()
+        .iter_mut()
+        .zip(n.lanes())
+        .zip(f.lanes())
+    {
         *y = (1.0 + r) * n - r * f;
     }
 }
@@ -2287,18 +2298,9 @@ mod tests {
             (XI, &[0.0, 1.0, 2.0, 4.0, 10.0][..], 10.0, [2.0, 4.0]),
             (ETA, &[0.0, 0.6, 1.5, 4.0, 9.0][..], 9.0, [1.5, 4.0]),
         ] {
-            let mut pts: [&[f64]; DIMS] = [
-                &[0.0, 1.0, 10.0],
-                &[0.0, 0.6, 4.0],
-                &[-0.5, -0.1, 0.1, 0.5],
-                &[50e3, 100e3],
-                &[10.0, 30.0],
-                &[0.0, 1.0],
-                &[0.5, 0.6],
-                &[0.7e9, 0.85e9],
-            ];
-            pts[axis] = points;
-            let axes = explicit_axes(pts, [0.1, 0.03, 2.0]);
+            let mut axes = tiny_axes();
+            axes.0[axis].points = points.to_vec();
+            axes.validate().unwrap();
             let linear = move |c: &[f64; DIMS]| {
                 let mut o = symmetric_multilinear(c);
                 o[3] += 5.0 * c[axis].abs();
