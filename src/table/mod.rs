@@ -345,6 +345,7 @@ impl Table {
                 *f |= NEAR_UNCONVERGED * u;
             }
         }
+        beside_unresolved(&shape, &mut flags);
         let mut cell_flags = Vec::new();
         if flags.iter().any(|f| *f != 0) {
             cell_flags = vec![0; len];
@@ -970,26 +971,20 @@ impl Table {
         // next to a cell that holds a jump of the model (unresolved), the spline of this cell takes the
         // one-sided slope at the shared node: the window's node beyond is replaced by the extrapolation of
         // this cell's secant (its values, and with the Jacobian their derivatives)
-        let beyond_unresolved = |axis: usize, window: &CubicStencil| {
-            let n = self.axes.0[axis].points.len();
-            [false, true].map(|upper| {
-                let lower = window.lower();
-                let neighbour = if upper {
-                    (lower + 2 < n).then(|| cell + st[axis])
-                } else {
-                    (lower >= 1).then(|| cell - st[axis])
-                };
-                let unresolved = neighbour
-                    .and_then(|c| self.cell_flags.get(c))
-                    .is_some_and(|f| f & UNRESOLVED != 0);
-                if unresolved {
+        // (the cell's flags say which neighbours are unresolved: [`beside_unresolved`])
+        let beyond_unresolved = |window: &CubicStencil, [below, above]: [u8; 2]| {
+            [(below, false), (above, true)].map(|(bit, upper)| {
+                if flags & bit != 0 {
                     window.beyond(upper)
                 } else {
                     None
                 }
             })
         };
-        for node in beyond_unresolved(ETA, &cy).into_iter().flatten() {
+        for node in beyond_unresolved(&cy, BESIDE_UNRESOLVED[1])
+            .into_iter()
+            .flatten()
+        {
             extrapolate(&mut c1, node);
             if JAC {
                 for ti in t1.iter_mut() {
@@ -1017,7 +1012,10 @@ impl Table {
                 c.copy_from_slice(&flat[i * OUTPUTS..(i + 1) * OUTPUTS]);
             }
         }
-        for node in beyond_unresolved(XI, &cx).into_iter().flatten() {
+        for node in beyond_unresolved(&cx, BESIDE_UNRESOLVED[0])
+            .into_iter()
+            .flatten()
+        {
             extrapolate(&mut c2, node);
             if JAC {
                 extrapolate(&mut t2, node);
@@ -1248,6 +1246,28 @@ unsafe fn corner_sum_avx2<const PAIR: bool>(
 const UNRESOLVED: u8 = 1;
 /// Flag of a cell whose stencil holds an unconverged point ([`near_unconverged`]).
 const NEAR_UNCONVERGED: u8 = 2;
+/// Flags of a cell whose neighbour cell below and above it along ξ̂ (first pair) and η̂ (second) holds a
+/// jump of the model ([`beside_unresolved`]).
+const BESIDE_UNRESOLVED: [[u8; 2]; 2] = [[4, 8], [16, 32]];
+
+/// Sets in `flags` (per point of a table of `shape`, C order: the flags of the cell whose lowest corner it
+/// is) the [`BESIDE_UNRESOLVED`] flags of every cell whose neighbour along ξ̂ or η̂ is [`UNRESOLVED`]: its
+/// spline along that axis takes the one-sided slope at their shared node (`core`).
+fn beside_unresolved(shape: &[usize; DIMS], flags: &mut [u8]) {
+    for (axis, [below, above]) in [XI, ETA].into_iter().zip(BESIDE_UNRESOLVED) {
+        let stride: usize = shape[axis + 1..].iter().product();
+        let n = shape[axis];
+        for i in 0..flags.len() {
+            let k = (i / stride) % n;
+            if k >= 1 && flags[i - stride] & UNRESOLVED != 0 {
+                flags[i] |= below;
+            }
+            if k + 2 < n && flags[i + stride] & UNRESOLVED != 0 {
+                flags[i] |= above;
+            }
+        }
+    }
+}
 
 /// Per point of a table of `shape` (C order), 1 where the cell whose lowest corner it is holds a jump of
 /// the model that no interpolation follows ([`TableOutput::resolved`]): the stored T_max `t` [K] at the
