@@ -971,26 +971,16 @@ impl Table {
         // next to a cell that holds a jump of the model (unresolved), the spline of this cell takes the
         // one-sided slope at the shared node: the window's node beyond is replaced by the extrapolation of
         // this cell's secant (its values, and with the Jacobian their derivatives)
-        // (the cell's flags say which neighbours are unresolved: [`beside_unresolved`])
-        let beyond_unresolved = |window: &CubicStencil, [below, above]: [u8; 2]| {
-            [(below, false), (above, true)].map(|(bit, upper)| {
-                if flags & bit != 0 {
-                    window.beyond(upper)
-                } else {
-                    None
-                }
-            })
-        };
-        for node in beyond_unresolved(&cy, BESIDE_UNRESOLVED[1])
-            .into_iter()
-            .flatten()
-        {
-            extrapolate(&mut c1, node);
-            if JAC {
-                for ti in t1.iter_mut() {
-                    extrapolate(ti, node);
-                }
-            }
+        // (the cell's flags say which neighbours are unresolved: [`beside_unresolved`]; out of line, so that
+        // the common path compiles as without)
+        if flags & BESIDE_ETA != 0 {
+            one_sided(
+                &cy,
+                BESIDE_UNRESOLVED[1],
+                flags,
+                &mut c1,
+                if JAC { &mut t1[..] } else { &mut [] },
+            );
         }
         // stage 2: along η, all 4·OUTPUTS fibres at once; derivatives (F_N, V, w, a/b, p_ref, φ, η)
         let mut c2 = [[0.0; OUTPUTS]; 4];
@@ -1012,14 +1002,13 @@ impl Table {
                 c.copy_from_slice(&flat[i * OUTPUTS..(i + 1) * OUTPUTS]);
             }
         }
-        for node in beyond_unresolved(&cx, BESIDE_UNRESOLVED[0])
-            .into_iter()
-            .flatten()
-        {
-            extrapolate(&mut c2, node);
-            if JAC {
-                extrapolate(&mut t2, node);
-            }
+        if flags & BESIDE_XI != 0 {
+            let derivatives = if JAC {
+                std::slice::from_mut(&mut t2)
+            } else {
+                &mut []
+            };
+            one_sided(&cx, BESIDE_UNRESOLVED[0], flags, &mut c2, derivatives);
         }
         // stage 3: along ξ
         let mut v = [0.0; OUTPUTS];
@@ -1043,6 +1032,28 @@ impl Table {
             d,
             converged,
             resolved,
+        }
+    }
+}
+
+/// The one-sided slopes of a cubic stage next to unresolved cells (`core`): in the window values `values`
+/// and in every window of their derivatives `derivatives`, the node beyond the interval on each side whose
+/// flag in `bits` (below, above) is set in the cell's `flags` becomes the extrapolation of the interval.
+#[cold]
+#[inline(never)]
+fn one_sided<V: Lanes, D: Lanes>(
+    window: &CubicStencil,
+    bits: [u8; 2],
+    flags: u8,
+    values: &mut [V; 4],
+    derivatives: &mut [[D; 4]],
+) {
+    for (bit, upper) in bits.into_iter().zip([false, true]) {
+        if let Some(node) = window.beyond(upper).filter(|_| flags & bit != 0) {
+            extrapolate(values, node);
+            for d in derivatives.iter_mut() {
+                extrapolate(d, node);
+            }
         }
     }
 }
@@ -1249,6 +1260,9 @@ const NEAR_UNCONVERGED: u8 = 2;
 /// Flags of a cell whose neighbour cell below and above it along ξ̂ (first pair) and η̂ (second) holds a
 /// jump of the model ([`beside_unresolved`]).
 const BESIDE_UNRESOLVED: [[u8; 2]; 2] = [[4, 8], [16, 32]];
+/// Any of the ξ̂, resp. η̂, flags of [`BESIDE_UNRESOLVED`].
+const BESIDE_XI: u8 = BESIDE_UNRESOLVED[0][0] | BESIDE_UNRESOLVED[0][1];
+const BESIDE_ETA: u8 = BESIDE_UNRESOLVED[1][0] | BESIDE_UNRESOLVED[1][1];
 
 /// Sets in `flags` (per point of a table of `shape`, C order: the flags of the cell whose lowest corner it
 /// is) the [`BESIDE_UNRESOLVED`] flags of every cell whose neighbour along ξ̂ or η̂ is [`UNRESOLVED`]: its
