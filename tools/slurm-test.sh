@@ -6,13 +6,16 @@
 # slurmctld and slurmd in the foreground as background processes of this script, submits a small table build
 # (1152 points, 6 x 6 grid) as an array job of 3 shards with `sbatch --wait`, then the merge job, and compares
 # the merged table byte for byte with the same table built in one process (every .npy with cmp, table.json
-# without its `build` record of date, duration and threads). A trap stops every daemon by its PID on any exit
-# and removes the temporary directory; nothing is left running.
+# without its `build` record of date, duration and threads); then loses one shard, damages another and submits
+# the array job again: the task of the intact shard keeps it, the other two rebuild theirs to the same bytes
+# (`table build --resume`). A trap stops every daemon by its PID on any exit and removes the temporary
+# directory; nothing is left running.
 #
 # Usage: tools/slurm-test.sh            (from the repository root; uses target/release/wheelrail)
 #   WHEELRAIL=PATH          the wheelrail executable [default: target/release/wheelrail]
 #   WHEELRAIL_SKIP_SLURM=1  skip the test (prints that it was skipped; exit 0)
-# Exit status 0 only if the merged table equals the one-process table.
+# Exit status 0 only if the merged table equals the one-process table and the resubmission rebuilt exactly the
+# missing and the damaged shard.
 set -euo pipefail
 
 if [ "${WHEELRAIL_SKIP_SLURM:-0}" = 1 ]; then
@@ -214,5 +217,27 @@ v1=$("$wheelrail" table verify "$tmp/single" --samples 50 --json 2>/dev/null || 
 v2=$("$wheelrail" table verify "$merged" --samples 50 --json 2>/dev/null || true)
 [ -n "$v1" ] && [ "$v1" = "$v2" ] || fail "table verify reports differ: $v1 / $v2"
 
+# a resubmitted array job recomputes only what is missing or damaged (build --resume): shard 2 lost, one
+# array of shard 3 damaged, shard 1 intact; the rebuilt shards are the first ones byte for byte
+cp -r "$job/shards" "$tmp/shards-first"
+rm -r "$job/shards/2"
+printf 'x' >>"$job/shards/3/converged.npy"
+t_resume=$(now)
+resubmitted=$(sbatch --wait --parsable "$job/build.sbatch") || fail "the resubmitted array job failed (logs: $job/logs)"
+resubmitted=${resubmitted%%;*}
+resume_time=$(since "$t_resume")
+grep -q "already holds this build" "$job/logs/build-${resubmitted}_1.out" ||
+    fail "the resubmitted task 1 did not keep its built shard: $(cat "$job/logs/build-${resubmitted}_1.out")"
+for k in 2 3; do
+    grep -q "^wrote " "$job/logs/build-${resubmitted}_$k.out" ||
+        fail "the resubmitted task $k did not rebuild its shard: $(cat "$job/logs/build-${resubmitted}_$k.out")"
+done
+for k in 1 2 3; do
+    for f in "$tmp/shards-first/$k"/*.npy; do
+        cmp "$f" "$job/shards/$k/$(basename "$f")" || fail "shard $k's $(basename "$f") differs after the resubmission"
+    done
+done
+
 echo "slurm-test: PASSED: 3-shard array job on Slurm merged to the same table as one process ($arrays arrays + table.json)"
-echo "slurm-test: times: install $install_time, cluster start $cluster_time, jobs (array + merge) $job_time, total $(since "$t_start")"
+echo "slurm-test: PASSED: the resubmitted array job kept shard 1 and rebuilt the lost shard 2 and the damaged shard 3"
+echo "slurm-test: times: install $install_time, cluster start $cluster_time, jobs (array + merge) $job_time, resubmission $resume_time, total $(since "$t_start")"

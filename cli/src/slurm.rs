@@ -159,13 +159,15 @@ impl SlurmJob {
             "#!/bin/bash\n\
              # Sharded wheelrail table build, written by `wheelrail table slurm`: array task K of {n} builds shard\n\
              # K/{n} (whole creepage cubes) into $OUT/{SHARDS_DIR}/K. Submit with {SUBMIT_SCRIPT}, or `sbatch` this file and\n\
-             # then {MERGE_SCRIPT}. sbatch options on the command line override the #SBATCH lines.\n\
+             # then {MERGE_SCRIPT}. sbatch options on the command line override the #SBATCH lines. A task whose\n\
+             # shard is already built keeps it (--resume): submitting again after failed or timed-out tasks\n\
+             # recomputes only the missing shards.\n\
              #SBATCH --job-name=wheelrail-table\n\
              #SBATCH --array=1-{n}\n\
              {head}\
              #SBATCH --output=\"{out}/{LOGS_DIR}/build-%A_%a.out\"\n\
              {vars}\
-             \"$WHEELRAIL\" table build{inputs} --shard \"$SLURM_ARRAY_TASK_ID/{n}\" \
+             \"$WHEELRAIL\" table build{inputs} --shard \"$SLURM_ARRAY_TASK_ID/{n}\" --resume \
              --out \"$OUT/{SHARDS_DIR}/$SLURM_ARRAY_TASK_ID\"\n"
         );
         let verify = if self.verify_samples > 0 {
@@ -265,7 +267,7 @@ mod tests {
             "PARAMS='/home/u/it'\\''s params.toml'\n",
             "AXES='/home/u/axes.toml'\n",
             "export RAYON_NUM_THREADS=\"${SLURM_CPUS_PER_TASK:-8}\"\n",
-            "\"$WHEELRAIL\" table build --params \"$PARAMS\" --axes \"$AXES\" --shard \"$SLURM_ARRAY_TASK_ID/12\" \
+            "\"$WHEELRAIL\" table build --params \"$PARAMS\" --axes \"$AXES\" --shard \"$SLURM_ARRAY_TASK_ID/12\" --resume \
              --out \"$OUT/shards/$SLURM_ARRAY_TASK_ID\"\n",
         ] {
             assert!(b.contains(line), "missing {line:?} in\n{b}");

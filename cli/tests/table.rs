@@ -352,6 +352,66 @@ fn builds_are_identical_whatever_the_thread_count_and_shards_merge_to_the_same_a
     cleanup("det-");
 }
 
+/// `table build --resume` keeps a directory that holds this very build (nothing computed: the sidecar,
+/// build date included, stays as it was) and builds anew where the directory holds another shard, other
+/// parameters or storage, or a damaged array; the rebuilt arrays are those of the first build.
+#[test]
+fn a_resumed_build_keeps_its_built_shard_and_rebuilds_a_missing_other_or_damaged_one() {
+    let (params, axes) = files("resume", SMALL_GRID, SMALL_AXES);
+    let dir = tmp("resume-shard");
+    let resume = |shard: &str, extra: &[&str]| {
+        let mut args = vec![
+            "table",
+            "build",
+            "--params",
+            s(&params),
+            "--axes",
+            s(&axes),
+            "--out",
+            s(&dir),
+            "--shard",
+            shard,
+            "--resume",
+        ];
+        args.extend_from_slice(extra);
+        let o = wheelrail(&args, Some("2"));
+        ok(&o);
+        let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
+        let kept = stderr.contains("already holds this build");
+        assert_eq!(kept, !stderr.contains("wrote "), "{stderr}");
+        kept
+    };
+    // missing: built
+    assert!(!resume("2/8", &[]));
+    let (arrays, side) = (
+        array_files(&dir),
+        std::fs::read(dir.join("table.json")).unwrap(),
+    );
+    // the same build: kept as it is
+    assert!(resume("2/8", &[]));
+    assert_eq!(array_files(&dir), arrays);
+    assert_eq!(std::fs::read(dir.join("table.json")).unwrap(), side);
+    // another shard, another storage, other parameters: built
+    assert!(!resume("3/8", &[]));
+    assert_eq!(sidecar(&dir)["shard"]["index"], 3);
+    assert!(!resume("3/8", &["--storage", "u16"]));
+    assert!(resume("3/8", &["--storage", "u16"]));
+    std::fs::write(&params, "[grid]\nnx = 7\nny = 7\n").unwrap();
+    assert!(!resume("3/8", &["--storage", "u16"]));
+    std::fs::write(&params, SMALL_GRID).unwrap();
+    // a damaged array (or a build killed while writing): built again, to the first build's bytes
+    assert!(!resume("2/8", &[]));
+    let mut flags = std::fs::read(dir.join("converged.npy")).unwrap();
+    *flags.last_mut().unwrap() ^= 1;
+    std::fs::write(dir.join("converged.npy"), flags).unwrap();
+    assert!(!resume("2/8", &[]));
+    assert_eq!(array_files(&dir), arrays);
+    std::fs::remove_file(dir.join("force_x_per_normal_force.npy")).unwrap();
+    assert!(!resume("2/8", &[]));
+    assert_eq!(array_files(&dir), arrays);
+    cleanup("resume");
+}
+
 /// Axes across the onset of the walls on the 8 × 8 grid (the default contact shape a/b 0.55 at 100 kN, 30
 /// m/s, |ξ| ≤ 0.8 %): GW's metallic area at the dry separation covers the centre from p0 ≈ 1.55 GPa on
 /// (A_m/A_n(d_dry) 0.97 at 1.5, 1.03 at 1.6 GPa), where a wet contact's friction jumps (0.085 → 0.106).

@@ -478,6 +478,36 @@ fn sidecar(
     }
 }
 
+/// Whether two builds (tables or shards, by sidecar and axes) computed the same values: the same
+/// parameters (and fingerprint), axes, model version and storage; their shard records aside.
+fn same_build((s, axes): (&Sidecar, &Axes), (other, other_axes): (&Sidecar, &Axes)) -> bool {
+    s.fingerprint == other.fingerprint
+        && s.params == other.params
+        && axes == other_axes
+        && s.model_version == other.model_version
+        && s.storage == other.storage
+}
+
+/// Whether `dir` already holds what [`build`] computes from `params`, `axes` and `shard`, recorded with
+/// `storage`: a table (or shard) that reads and verifies (sidecar, every array's SHA-256) and was built
+/// with the same parameters, axes, model version, storage and shard. An interrupted or resubmitted
+/// sharded build so recomputes only what is missing (`wheelrail table build --resume`); a directory the
+/// build was killed while writing fails the checksums (the sidecar is written last) and is not built.
+pub fn is_built(
+    dir: &Path,
+    params: &Params,
+    axes: &Axes,
+    shard: Option<ShardRecord>,
+    storage: Storage,
+) -> bool {
+    let Ok(t) = TableFiles::read(dir) else {
+        return false;
+    };
+    let mut expected = sidecar(params, axes, shard, Vec::new(), 0.0);
+    expected.storage = storage;
+    t.sidecar.shard == shard && same_build((&t.sidecar, &t.axes), (&expected, axes))
+}
+
 /// The (ξ̂, η̂, φ̂) node indices of creepage node `c` (C order within a cube).
 fn creepage_node(axes: &Axes, c: usize) -> [usize; 3] {
     let (ny, np) = (axes.0[ETA].points.len(), axes.0[PHI].points.len());
@@ -508,13 +538,7 @@ pub fn merge(mut shards: Vec<(TableFiles, &Path)>) -> Result<TableFiles> {
                 ),
             ));
         }
-        let f = &first.sidecar;
-        let same = t.sidecar.fingerprint == f.fingerprint
-            && t.sidecar.params == f.params
-            && t.axes == first.axes
-            && t.sidecar.model_version == f.model_version
-            && t.sidecar.storage == f.storage;
-        if !same {
+        if !same_build((&t.sidecar, &t.axes), (&first.sidecar, &first.axes)) {
             return Err(corrupt(
                 p,
                 format!(

@@ -27,7 +27,7 @@ pub mod rise;
 pub mod verify;
 
 pub use axes::{Axes, AxesSpec, Axis, AxisSpec, DIMENSIONS, DIMS, Interpolation, Spacing};
-pub use build::{build, merge, solve_with_retry, tabulate};
+pub use build::{build, is_built, merge, solve_with_retry, tabulate};
 pub use coords::{Coordinates, Ellipse};
 pub use file::{
     FilmIntake, OUTPUT_INFO, OUTPUTS, Quantization, ShardRecord, Sidecar, Storage, TableFiles,

@@ -65,6 +65,12 @@ struct BuildArgs {
     /// shard stores f32 and records it for `wheelrail table merge`.
     #[arg(long, value_enum, default_value = "f32")]
     storage: StorageArg,
+    /// Keep what --out holds if it is this build (the same parameters, axes, shard, storage and model
+    /// version; every array's checksum verified) and compute nothing; build as without otherwise. A
+    /// resubmitted array job or a rerun of an interrupted series of shards so recomputes only the
+    /// shards that are missing or damaged.
+    #[arg(long)]
+    resume: bool,
 }
 
 #[derive(Debug, Args)]
@@ -191,6 +197,13 @@ fn build(a: &BuildArgs) -> Result<()> {
         None => Axes::default(),
     };
     let shard = a.shard.as_deref().map(parse_shard).transpose()?;
+    if a.resume && table::is_built(&a.out, &params, &axes, shard, a.storage.into()) {
+        eprintln!(
+            "{} already holds this build (--resume): kept, nothing computed",
+            a.out.display()
+        );
+        return Ok(());
+    }
     let points = match shard {
         Some(s) => table::file::shard_len(&axes, s),
         None => axes.len(),
