@@ -354,6 +354,9 @@ fn slurm(a: &SlurmArgs) -> Result<()> {
         "the merged table: {}",
         job.out.join(slurm::TABLE_DIR).display()
     );
+    println!(
+        "after failed or timed-out tasks submit again: the tasks keep the shards already built (--resume)"
+    );
     Ok(())
 }
 
