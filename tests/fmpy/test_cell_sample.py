@@ -16,17 +16,9 @@ import sys
 
 from conftest import ROOT, cli
 
-AXES = """
-[creepage_x]
-points = [0.0, 0.4, 2.6]
-mirrored = true
-raw_limit = 0.01
-[creepage_y]
-points = [0.0, 0.4, 2.3]
-raw_limit = 0.01
-[spin]
-points = [-0.3, -0.05, 0.05, 0.3]
-raw_limit = 0.5
+# the creepage axes of the small fixture table, linear axes of three nodes each (one F_N: by similarity)
+CREEPAGES = (ROOT / "tests" / "fixtures" / "small-axes.toml").read_text().split("[normal_force]")[0]
+AXES = CREEPAGES + """
 [normal_force]
 points = [100e3]
 [speed]
