@@ -8,8 +8,9 @@ the whole table gives there: the same nodes, the same splines (also the one-side
 cells along ξ̂ and η̂), the same unresolved and near-unconverged flags. This tool draws CELLS such cells at
 random, the way `wheelrail table verify` draws its samples (even cells: the cell of a point uniform over the
 ranges; odd cells: a cell uniform over the cell indices, like verify's cell midpoints), builds each one
-(`table build --resume`: an interrupted run resumes where it stopped), verifies it (`table verify`, SAMPLES
-points inside the cell, seed = the cell's number) and pools the samples: |dF|/F_N and T_max errors as mode
+(`table build --resume` into DIR/cell-K: an interrupted run resumes where it stopped), verifies it (`table
+verify`, SAMPLES points inside the cell, seed K + 1, into DIR/cell-K.SAMPLES.json and .csv; a cell rebuilt for
+other parameters or axes is verified anew) and pools the samples: |dF|/F_N and T_max errors as mode
 auto serves them (unresolved cells and points next to unconverged nodes are solved exactly: error 0) and as
 the table alone gives them, p99 and max, and a line per cell.
 
@@ -142,16 +143,21 @@ def main():
         if b.returncode != 0:
             sys.exit(f"cell_sample: the build of cell {k} failed: {b.stderr}")
         built = time.time() - t0
-        report = path + ".json"
+        # the verification of this very build with this many samples (a rebuilt cell is verified anew)
+        report, samples = f"{path}.{a.samples}.json", f"{path}.{a.samples}.csv"
+        if "already holds this build" not in b.stderr:
+            for f in (report, samples):
+                if os.path.exists(f):
+                    os.remove(f)
         if not os.path.exists(report):
             v = run([a.wheelrail, "table", "verify", path, "--samples", str(a.samples), "--seed", str(k + 1),
-                     "--json", "--csv", path + ".csv"])
+                     "--json", "--csv", samples])
             if v.returncode not in (0, 1):
                 sys.exit(f"cell_sample: the verification of cell {k} failed: {v.stderr}")
             with open(report, "w") as f:
                 f.write(v.stdout)
         cell_errors = {"force": [], "max_temperature": []}
-        with open(path + ".csv") as f:
+        with open(samples) as f:
             for row in csv.DictReader(f):
                 served = float(row["table_resolved"]) == 1.0 and float(row["table_converged"]) == 1.0
                 for o in ("force", "max_temperature"):
