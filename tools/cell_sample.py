@@ -16,7 +16,7 @@ the table alone gives them, p99 and max, and a line per cell.
 
 A cell of a table by similarity costs 16 creepage cubes (2 nodes on each of V, w, a/b, p_ref), e.g. 16 ×
 3192 exact solves on the whole-range axes (tools/whole-range-axes.toml): ≈ 5 CPU-minutes for most cells,
-over an hour at its hottest corner (a/b 5, 158 m/s, p0 ≥ 1.8 GPa).
+≈ 40 at the hot, fast corner (V·s 65–158 m/s, p0 ≥ 1.7 GPa).
 
 Usage: tools/cell_sample.py --axes FILE --cells N --out DIR [--samples S] [--seed K] [--params FILE]
                             [--wheelrail PATH]
@@ -55,11 +55,6 @@ def toml_text(axes):
         out.append(f"[{name}]")
         out += [f"{k} = {toml_value(v)}" for k, v in spec.items()]
     return "\n".join(out) + "\n"
-
-
-def coordinate(spec, x):
-    """The coordinate a cell of this axis interpolates in (ln x on a log axis)."""
-    return math.log(x) if spec.get("interpolation") == "log" else x
 
 
 def draw_cells(axes, n, seed):
@@ -108,6 +103,11 @@ def stats(values):
     # nearest rank, as `table verify`
     rank = max(1, math.ceil(0.99 * len(v)))
     return {"p99": v[rank - 1], "max": v[-1], "n": len(v)}
+
+
+def number(x, spec):
+    """x formatted by spec, or "-" where there is no sample."""
+    return "-" if x is None else format(x, spec)
 
 
 def main():
@@ -166,10 +166,11 @@ def main():
                     pooled["auto"][o].append(e if served else 0.0)
                     cell_errors[o].append(e if served else 0.0)
         f_s, t_s = stats(cell_errors["force"]), stats(cell_errors["max_temperature"])
-        line = (f"cell {k:3d} ({where}): {f_s['n']} samples, |dF|/F_N p99 {f_s['p99']:.2e} max {f_s['max']:.2e}, "
-                f"T_max p99 {t_s['p99']:.2f} K max {t_s['max']:.2f} K (as mode auto serves them; build {built:.0f} s)")
+        line = (f"cell {k:3d} ({where}): {f_s['n']} samples, |dF|/F_N p99 {number(f_s['p99'], '.2e')} max "
+                f"{number(f_s['max'], '.2e')}, T_max p99 {number(t_s['p99'], '.2f')} K max "
+                f"{number(t_s['max'], '.2f')} K (as mode auto serves them)")
         lines.append(line)
-        print(line, flush=True)
+        print(f"{line}; build {built:.0f} s", flush=True)
     result = {
         "cells": a.cells,
         "samples_per_cell": a.samples,
@@ -180,10 +181,10 @@ def main():
     with open(os.path.join(a.out, "report.json"), "w") as f:
         json.dump(result, f, indent=1)
     for mode in ("auto", "table"):
-        s = result[mode]
-        print(f"pooled ({mode}): |dF|/F_N p99 {s['force']['p99']:.2e} max {s['force']['max']:.2e}; "
-              f"T_max p99 {s['max_temperature']['p99']:.2f} K max {s['max_temperature']['max']:.2f} K "
-              f"({s['force']['n']} samples in {a.cells} cells)")
+        f, t = result[mode]["force"], result[mode]["max_temperature"]
+        print(f"pooled ({mode}): |dF|/F_N p99 {number(f['p99'], '.2e')} max {number(f['max'], '.2e')}; "
+              f"T_max p99 {number(t['p99'], '.2f')} K max {number(t['max'], '.2f')} K "
+              f"({f['n']} samples in {a.cells} cells)")
 
 
 if __name__ == "__main__":
