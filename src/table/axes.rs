@@ -159,6 +159,12 @@ pub struct Axis {
     /// ξ̂ = k·ξ [-, -, m].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub raw_scale: Option<f64>,
+    /// The spin axis of knee-blended coordinates: the contact size L_r [m] at which the raw scale is
+    /// `raw_scale`; a contact of size L = sqrt(a² + b²) takes k_r·L/L_r, so that the raw part of the
+    /// coordinate measures the spin's slip φ·L at the contact's edge (see `coords`). None: k_r for every
+    /// contact.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub raw_length: Option<f64>,
     /// Linear axes: interpolated linearly in ln x ([`Interpolation::Log`]) instead of x.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub logarithmic: bool,
@@ -181,6 +187,7 @@ impl Axis {
             mirrored: false,
             raw_limit: None,
             raw_scale: None,
+            raw_length: None,
             logarithmic: false,
             similarity: false,
             sqrt_from: None,
@@ -255,6 +262,9 @@ pub struct AxisSpec {
     pub raw_limit: Option<f64>,
     /// Creepage axes: the raw scale k_r of knee-blended coordinates (see `coords`) [-, -, m].
     pub raw_scale: Option<f64>,
+    /// The spin axis with a `raw_scale`: the contact size sqrt(a² + b²) [m] the raw scale applies to;
+    /// other contacts take it in proportion to their size (see `coords`).
+    pub raw_length: Option<f64>,
     /// Linear axes: `"log"` interpolates linearly in ln x (points > 0), `"linear"` (the default) in x;
     /// creepage axes are always `"cubic"`.
     pub interpolation: Option<Interpolation>,
@@ -453,6 +463,7 @@ impl AxisSpec {
             mirrored,
             raw_limit,
             raw_scale: self.raw_scale,
+            raw_length: self.raw_length,
             logarithmic,
             similarity,
             sqrt_from: self.sqrt_from,
@@ -576,6 +587,14 @@ fn validate_axis(dim: usize, axis: &Axis) -> Result<()> {
         return Err(bad(
             dim,
             format!("raw_scale {k} must be finite and > 0, on a creepage axis with a raw_limit"),
+        ));
+    }
+    if let Some(l) = axis.raw_length
+        && !(dim == PHI && axis.raw_scale.is_some() && l > 0.0 && l.is_finite())
+    {
+        return Err(bad(
+            dim,
+            format!("raw_length {l} must be finite and > 0, on the spin axis with a raw_scale"),
         ));
     }
     if let Some(limit) = axis.raw_limit {
@@ -841,6 +860,40 @@ mod tests {
             ..Default::default()
         };
         assert_eq!(Axes::from_spec(&spec).unwrap().0[PHI].raw_scale, Some(0.4));
+        // a raw length: the spin axis with a raw scale only, finite and > 0
+        let with_length = |dim: usize, raw_scale: Option<f64>, raw_length: f64| {
+            let axis = AxisSpec {
+                raw_scale,
+                raw_length: Some(raw_length),
+                ..default_spec(dim)
+            };
+            let spec = match dim {
+                XI => AxesSpec {
+                    creepage_x: Some(axis),
+                    ..Default::default()
+                },
+                _ => AxesSpec {
+                    spin: Some(axis),
+                    ..Default::default()
+                },
+            };
+            Axes::from_spec(&spec)
+        };
+        for (dim, raw_scale, raw_length) in [
+            (XI, Some(193.0), 0.012),
+            (PHI, None, 0.012),
+            (PHI, Some(0.4), 0.0),
+            (PHI, Some(0.4), f64::INFINITY),
+        ] {
+            let e = with_length(dim, raw_scale, raw_length)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("raw_length"), "{e}");
+        }
+        assert_eq!(
+            with_length(PHI, Some(0.4), 0.012).unwrap().0[PHI].raw_length,
+            Some(0.012)
+        );
     }
 
     #[test]

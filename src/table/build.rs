@@ -18,8 +18,9 @@
 //! raw creepage would leave what the solver accepts. So each cube solves only the nodes that an in-range
 //! evaluation can touch: along each creepage axis, the nodes up to one beyond the first node at or past
 //! the coordinate of the raw limit at k_max (raw limit × k_max, or its knee blend, which also grows with
-//! k), where k_max is the largest creepage scale of the cube and its neighbours along F_N, a/b and p_ref
-//! (every cell an evaluation interpolates in; the creepage scales are monotone in each of them), which
+//! k and k_r), where k_max (and k_r,max) is the largest creepage scale of the cube and its neighbours along
+//! F_N, a/b and p_ref (every cell an evaluation interpolates in; the creepage scales are monotone in each
+//! of them, a raw scale ∝ sqrt(a² + b²) is largest at a cell's ends), which
 //! covers the four-node window of the cubic interpolation. With knee-blended axes every contact's raw
 //! limit lies at nearly the same coordinate, and the windows cover nearly the whole axis. The nodes beyond hold the values
 //! of the nearest covered node (flat continuation, which keeps the monotone interpolation's slopes finite)
@@ -32,7 +33,7 @@
 
 use super::TableOutput;
 use super::axes::{Axes, DIMS, ETA, FORCE, PHI, PRESSURE, RATIO, XI};
-use super::coords::{Coordinates, Ellipse};
+use super::coords::{Coordinates, Ellipse, Scale};
 use super::file::{
     ArrayRecord, BuildRecord, FORMAT, FORMAT_VERSION, FilmIntake, MODEL_VERSION, OUTPUTS,
     ShardRecord, Sidecar, Storage, TableFiles, UnconvergedRecord, axis_records, corrupt,
@@ -143,10 +144,8 @@ struct Cube {
     params: Params,
     /// The cube's contact ellipse.
     ellipse: Ellipse,
-    /// k_x, k_y, k_φ of the cube's contact.
-    scales: [f64; 3],
-    /// The table's coordinates.
-    coords: Coordinates,
+    /// k_x, k_y, k_φ of the cube's contact, with their raw scales.
+    scales: [Scale; 3],
     /// Solved node range along ξ̂, η̂, φ̂.
     windows: [(usize, usize); 3],
 }
@@ -165,7 +164,7 @@ impl Cube {
         let coordinate = |d: usize, i: usize| axes.0[d].points[i];
         let node: [f64; DIMS] =
             std::array::from_fn(|d| if d < FORCE { 0.0 } else { coordinate(d, at[d]) });
-        let contact = |f: usize, r: usize, p: usize| -> Result<(Ellipse, [f64; 3])> {
+        let contact = |f: usize, r: usize, p: usize| -> Result<(Ellipse, [Scale; 3])> {
             let force = coordinate(FORCE, f);
             let [a, b] =
                 super::coords::semi_axes(coordinate(RATIO, r), coordinate(PRESSURE, p), force);
@@ -194,12 +193,8 @@ impl Cube {
             let axis = &axes.0[d];
             let limit = axis.raw_limit.unwrap_or(axis.max());
             // the coordinate of the raw limit grows with k (coords::map is increasing in k)
-            *w = window(&axis.points, coords.map(d, limit, k_max[d]).q);
-            let reach = coords.unmap(
-                d,
-                axis.points[w.0].abs().max(axis.points[w.1].abs()),
-                scales[d],
-            );
+            *w = window(&axis.points, k_max[d].map(limit).q);
+            let reach = scales[d].unmap(axis.points[w.0].abs().max(axis.points[w.1].abs()));
             if coords.normalised() && reach > SOLVER_RAW_LIMITS[d] {
                 return Err(Error::Table {
                     path: "<build>".into(),
@@ -225,18 +220,16 @@ impl Cube {
             params: p,
             ellipse: e,
             scales,
-            coords: *coords,
             windows,
         })
     }
 
     /// The operating point of creepage node (i, j, l) of the cube.
     fn point(&self, axes: &Axes, [i, j, l]: [usize; 3]) -> OperatingPoint {
-        let c = &self.coords;
         OperatingPoint {
-            creepage_x: c.unmap(XI, axes.0[XI].points[i], self.scales[0]),
-            creepage_y: c.unmap(ETA, axes.0[ETA].points[j], self.scales[1]),
-            spin: c.unmap(PHI, axes.0[PHI].points[l], self.scales[2]),
+            creepage_x: self.scales[0].unmap(axes.0[XI].points[i]),
+            creepage_y: self.scales[1].unmap(axes.0[ETA].points[j]),
+            spin: self.scales[2].unmap(axes.0[PHI].points[l]),
             normal_force: self.node[FORCE],
             speed: self.node[FORCE + 1],
             wetness: self.node[FORCE + 2],

@@ -15,6 +15,11 @@
 //!   p_ref nodes 0.61 and 1.22 GPa, ξ̂ 8–16, |ΔF|/F_N 0.006–0.011 and |ΔT_max| 25–49 K at equal ξ̂, against
 //!   0.000–0.005 and 1–33 K at equal q). It also gives every contact nearly the same coordinate range up to
 //!   its raw limit (k_r·limit + (1 − k_r/k)·s), where ξ̂ spans 47–3200 × the limit over the geometry range.
+//!   A spin axis with a `raw_length` L_r takes k_r·L/L_r for a contact of size L = sqrt(a² + b²): its raw
+//!   part is then the spin's slip φ·L at the contact's edge (times k_r/L_r), which the full-slip forces
+//!   follow (the sliding velocity (ξ − φ·y, η + φ·x) compares φ·b and φ·a with ξ and η) — with one k_r
+//!   for all contacts, a large conformal contact's whole fall of F_x under spin crowds into a few
+//!   nodes, at a place that moves from one a/b node to the next (docs/model.md §12.3).
 //! - Geometry: a/b and p_ref = p0·(F_ref/F_N)^(1/3), p0 = 3·F_N/(2π·a·b) (Hertz, docs/model.md §2).
 //! - **Similarity** (a table whose speed axis has `similarity`, docs/model.md §9.1): a contact (a, b, F_N,
 //!   V, φ) is located by its equivalent at the reference load F_ref — semi-axes (a, b)/s, speed V·s, spin
@@ -42,6 +47,8 @@ pub struct Coordinates {
     normalised: bool,
     /// Per creepage axis, the raw scale k_r of a knee-blended coordinate (None: ξ̂ = k·ξ).
     raw_scales: [Option<f64>; 3],
+    /// Per creepage axis, the contact size L_r [m] its raw scale applies to (None: every contact's).
+    raw_lengths: [Option<f64>; 3],
     /// Shear modulus G at the bulk temperature [Pa].
     shear_modulus: f64,
     /// Poisson's ratio ν [-].
@@ -82,12 +89,46 @@ pub struct Mapped {
     pub dx: f64,
     /// k·∂q/∂k.
     pub dlnk: f64,
+    /// k_r·∂q/∂k_r (0 without a raw scale).
+    pub dlnr: f64,
+}
+
+/// The scales of one creepage axis for one contact: k of the linear theory and, knee-blended, the raw
+/// scale k_r (see the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scale {
+    /// k [-, -, m].
+    pub k: f64,
+    /// k_r [-, -, m], None for q = k·x.
+    pub raw: Option<f64>,
+}
+
+impl Scale {
+    /// The coordinate of raw creepage `x` ([`map`]).
+    #[inline(always)]
+    pub fn map(&self, x: f64) -> Mapped {
+        map(x, self.k, self.raw)
+    }
+
+    /// The raw creepage of coordinate `q` ([`unmap`]).
+    pub fn unmap(&self, q: f64) -> f64 {
+        unmap(q, self.k, self.raw)
+    }
+
+    /// The larger scales of `self` and `other` (a coordinate grows with both, see [`map`]).
+    pub fn max(self, other: Scale) -> Scale {
+        Scale {
+            k: self.k.max(other.k),
+            raw: self.raw.zip(other.raw).map(|(a, b)| a.max(b)).or(self.raw),
+        }
+    }
 }
 
 /// The creepage coordinate of raw creepage `x` for creepage scale `k` and raw scale `raw_scale` (see the
 /// module documentation): q = k·x without a raw scale, else the knee blend
-/// q = k_r·x + (k − k_r)·x·σ(k·x/s), with ∂q/∂x = k_r + (k − k_r)·σ³ and
-/// k·∂q/∂k = k·x·σ³·(1 + (k_r/k)·z²), z = k·x/s (σ + z·σ' = σ³, σ' = −z·σ³).
+/// q = k_r·x + (k − k_r)·x·σ(k·x/s), with ∂q/∂x = k_r + (k − k_r)·σ³,
+/// k·∂q/∂k = k·x·σ³·(1 + (k_r/k)·z²), z = k·x/s (σ + z·σ' = σ³, σ' = −z·σ³), and k_r·∂q/∂k_r =
+/// k_r·x·(1 − σ) (≥ 0 for x ≥ 0: q grows with k_r too).
 #[inline(always)]
 pub fn map(x: f64, k: f64, raw_scale: Option<f64>) -> Mapped {
     match raw_scale {
@@ -95,6 +136,7 @@ pub fn map(x: f64, k: f64, raw_scale: Option<f64>) -> Mapped {
             q: k * x,
             dx: k,
             dlnk: k * x,
+            dlnr: 0.0,
         },
         Some(kr) => {
             let z = k * x / KNEE;
@@ -104,6 +146,7 @@ pub fn map(x: f64, k: f64, raw_scale: Option<f64>) -> Mapped {
                 q: kr * x + (k - kr) * x * sigma,
                 dx: kr + (k - kr) * s3,
                 dlnk: k * x * s3 * (1.0 + kr / k * z * z),
+                dlnr: kr * x * (1.0 - sigma),
             }
         }
     }
@@ -212,23 +255,12 @@ impl Coordinates {
         Coordinates {
             normalised: axes.normalised(),
             raw_scales: std::array::from_fn(|d| axes.0[d].raw_scale),
+            raw_lengths: std::array::from_fn(|d| axes.0[d].raw_length),
             shear_modulus: m.shear_modulus,
             poisson: m.poisson,
             similarity: axes.similarity(),
             heating: super::heating::applies(params),
         }
-    }
-
-    /// The coordinate along creepage axis `d` (0 ξ, 1 η, 2 φ) of raw creepage `x` for scale `k`.
-    #[inline(always)]
-    pub fn map(&self, d: usize, x: f64, k: f64) -> Mapped {
-        map(x, k, self.raw_scales[d])
-    }
-
-    /// The raw creepage of coordinate `q` along creepage axis `d` for scale `k` ([`Coordinates::map`]
-    /// inverted).
-    pub fn unmap(&self, d: usize, q: f64, k: f64) -> f64 {
-        unmap(q, k, self.raw_scales[d])
     }
 
     /// Whether the creepages are normalised.
@@ -237,24 +269,35 @@ impl Coordinates {
     }
 
     /// The creepage scales [k_x, k_y, k_φ] (see the module documentation; [1, 1, 1] for raw creepages)
-    /// [-, -, m] of the contact `e` at normal force `force` [N]. Errors: semi-axes that are not positive.
-    pub fn scales(&self, e: &Ellipse, force: f64) -> Result<[f64; 3]> {
-        if !self.normalised {
-            return Ok([1.0; 3]);
-        }
-        let k = kalker_coefficients(e.a, e.b, self.poisson)?;
-        Ok(self.scales_of(e, force, &k))
+    /// [-, -, m] with their raw scales, of the contact `e` at normal force `force` [N]. Errors: semi-axes
+    /// that are not positive.
+    pub fn scales(&self, e: &Ellipse, force: f64) -> Result<[Scale; 3]> {
+        let k = self
+            .normalised
+            .then(|| kalker_coefficients(e.a, e.b, self.poisson))
+            .transpose()?;
+        Ok(self.scales_of(e, force, k.as_ref()))
     }
 
-    /// [`Coordinates::scales`] with the contact's Kalker coefficients `k` already computed.
+    /// [`Coordinates::scales`] with the contact's Kalker coefficients `k` already computed (needed for
+    /// normalised creepages).
     #[inline(always)]
-    fn scales_of(&self, e: &Ellipse, force: f64, k: &KalkerCoefficients) -> [f64; 3] {
-        if !self.normalised {
-            return [1.0; 3];
-        }
-        let c = e.radius();
-        let gc2 = self.shear_modulus * c * c / force;
-        [gc2 * k.c11, gc2 * k.c22, gc2 * c * k.c23]
+    fn scales_of(&self, e: &Ellipse, force: f64, k: Option<&KalkerCoefficients>) -> [Scale; 3] {
+        let k = match k.filter(|_| self.normalised) {
+            Some(k) => {
+                let c = e.radius();
+                let gc2 = self.shear_modulus * c * c / force;
+                [gc2 * k.c11, gc2 * k.c22, gc2 * c * k.c23]
+            }
+            None => [1.0; 3],
+        };
+        std::array::from_fn(|d| Scale {
+            k: k[d],
+            raw: self.raw_scales[d].map(|kr| match self.raw_lengths[d] {
+                Some(l) => kr * e.a.hypot(e.b) / l,
+                None => kr,
+            }),
+        })
     }
 
     /// The flexibility ratios L2/L1, L3/L1 of contact `e` that its direction factor Λ weighs η and c·φ with
@@ -326,7 +369,7 @@ impl Coordinates {
         let kalker = (self.normalised || self.heating)
             .then(|| kalker_coefficients(equivalent.a, equivalent.b, self.poisson))
             .transpose()?;
-        let k = kalker.map_or([1.0; 3], |kc| self.scales_of(&equivalent, force, &kc));
+        let k = self.scales_of(&equivalent, force, kalker.as_ref());
         let raw = [point.creepage_x, point.creepage_y, point.spin * s];
         // Λ of the equivalent, whose c·φ·s/s is the contact's own z = c·φ (Λ is the contact's): z grows
         // with F_N like c, ∝ F_N^e
@@ -347,15 +390,16 @@ impl Coordinates {
             }
             None => (Heating::ONE.value, [0.0; 4]),
         };
-        let mut m = [
-            self.map(0, raw[0], k[0]),
-            self.map(1, raw[1], k[1]),
-            self.map(2, raw[2], k[2]),
-        ];
+        let mut m = [k[0].map(raw[0]), k[1].map(raw[1]), k[2].map(raw[2])];
         let exponents = self.scale_exponents(e.load_exponent);
+        // a raw scale ∝ the size of the (equivalent) contact: ∝ F_N^e, with similarity F_N^(e − 1/2)
+        let raw_exponent = e.load_exponent - if self.similarity { 0.5 } else { 0.0 };
         let mut dlnf = [0.0; DIMS];
         for d in 0..3 {
             dlnf[d] = m[d].dlnk * exponents[d];
+            if self.raw_lengths[d].is_some() {
+                dlnf[d] += m[d].dlnr * raw_exponent;
+            }
         }
         let pressure_exponent = if self.similarity {
             // the equivalent's k_φ and its spin φ·s
@@ -399,9 +443,9 @@ impl Coordinates {
         let k = self.scales(&e, q[3])?;
         Ok((
             OperatingPoint {
-                creepage_x: self.unmap(0, q[0], k[0]),
-                creepage_y: self.unmap(1, q[1], k[1]),
-                spin: self.unmap(2, q[2], k[2]),
+                creepage_x: k[0].unmap(q[0]),
+                creepage_y: k[1].unmap(q[1]),
+                spin: k[2].unmap(q[2]),
                 normal_force: q[3],
                 speed: q[4],
                 wetness: q[5],
@@ -514,8 +558,15 @@ mod tests {
                     "k {k} x {x}: {} vs {fk}",
                     m.dlnk
                 );
-                // increasing in k at fixed x > 0 (the build's coverage windows rely on it)
-                assert!(x <= 0.0 || m.dlnk > 0.0);
+                // (q is linear in k_r: a wide central difference is exact but for rounding)
+                let fr = (map(x, k, Some(kr * 1.5)).q - map(x, k, Some(kr * 0.5)).q) / 1.0;
+                assert!(
+                    (m.dlnr - fr).abs() <= 1e-6 * (m.dlnr.abs() + 1e-9),
+                    "k {k} x {x}: {} vs {fr}",
+                    m.dlnr
+                );
+                // increasing in k and k_r at fixed x > 0 (the build's coverage windows rely on it)
+                assert!(x <= 0.0 || (m.dlnk > 0.0 && m.dlnr > 0.0));
             }
             // the limits: ξ̂ below the knee, raw creepage × k_r (plus the offset) far beyond it
             let x = 1e-4 * KNEE / k;
@@ -533,18 +584,23 @@ mod tests {
             Mapped {
                 q: 1.93,
                 dx: 193.0,
-                dlnk: 1.93
+                dlnk: 1.93,
+                dlnr: 0.0
             }
         );
         assert_eq!(unmap(1.93, 193.0, None), 1.93 / 193.0);
     }
 
     /// Coordinates of the default contact's tables with knee-blended creepage axes, and their similarity
-    /// version (equivalent speeds at F_ref).
-    fn blended_coordinates(similarity: bool) -> Coordinates {
+    /// version (equivalent speeds at F_ref); `sized`: the spin's raw scale in proportion to the contact's
+    /// size.
+    fn blended_coordinates(similarity: bool, sized: bool) -> Coordinates {
         let mut axes = Axes::default();
         for (d, k) in [200.0, 170.0, 0.4].into_iter().enumerate() {
             axes.0[d].raw_scale = Some(k);
+        }
+        if sized {
+            axes.0[2].raw_length = Some(0.012);
         }
         if similarity {
             axes.0[3].points = vec![REFERENCE_FORCE];
@@ -559,8 +615,14 @@ mod tests {
     /// (F_N coordinate F_ref, speed V·sqrt(F_N/F_ref), p_ref = p0), creepages within the same raw limits.
     #[test]
     fn similarity_locates_a_contact_by_its_equivalent_at_the_reference_load() {
-        let c = blended_coordinates(true);
-        assert!(c.similarity() && !blended_coordinates(false).similarity());
+        for sized in [false, true] {
+            located_by_the_equivalent(&blended_coordinates(true, sized));
+        }
+        assert!(!blended_coordinates(false, false).similarity());
+    }
+
+    fn located_by_the_equivalent(c: &Coordinates) {
+        assert!(c.similarity());
         let point = OperatingPoint {
             creepage_x: 0.004,
             creepage_y: -0.002,
@@ -609,8 +671,8 @@ mod tests {
             speed: 30.0,
             wetness: 0.0,
         };
-        for similarity in [false, true] {
-            let c = blended_coordinates(similarity);
+        for (similarity, sized) in [(false, false), (true, false), (false, true), (true, true)] {
+            let c = blended_coordinates(similarity, sized);
             for exponent in [Ellipse::HERTZ, 0.0] {
                 let e = Ellipse {
                     a: 5e-3,
@@ -692,7 +754,7 @@ mod tests {
             let (lo, hi) = (at(80e3 * (1.0 - 1e-6)), at(80e3 * (1.0 + 1e-6)));
             let want = c.scale_exponents(e);
             for d in 0..3 {
-                let fd = (hi[d].ln() - lo[d].ln()) / (2e-6);
+                let fd = (hi[d].k.ln() - lo[d].k.ln()) / (2e-6);
                 assert!((fd - want[d]).abs() < 1e-6, "e {e} d {d}: {fd}");
             }
             let p = |f: f64| {

@@ -112,6 +112,9 @@ pub struct AxisRecord {
     /// Knee-blended creepage axes: the raw scale k_r (see `coords`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub raw_scale: Option<f64>,
+    /// Knee-blended spin axes: the contact size the raw scale applies to (see `coords`) [m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub raw_length: Option<f64>,
     /// The speed axis of a table built by similarity: equivalent speeds at the reference load
     /// (docs/model.md §9.1).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
@@ -449,6 +452,7 @@ pub fn axis_records(axes: &Axes) -> Vec<AxisRecord> {
             points: a.points.clone(),
             raw_limit: a.raw_limit,
             raw_scale: a.raw_scale,
+            raw_length: a.raw_length,
             similarity: a.similarity,
             sqrt_from: a.sqrt_from,
         })
@@ -493,6 +497,7 @@ fn axes_of(sidecar: &Sidecar, path: &Path) -> Result<Axes> {
             mirrored: r.mirrored,
             raw_limit: r.raw_limit,
             raw_scale: r.raw_scale,
+            raw_length: r.raw_length,
             logarithmic,
             similarity: r.similarity,
             sqrt_from: r.sqrt_from,

@@ -1668,6 +1668,14 @@ mod tests {
         axes
     }
 
+    /// `axes` (knee-blended) with the spin's raw scale in proportion to the contact's size sqrt(a² + b²),
+    /// 0.4 m at 6 mm: k_r moves with the contact's shape, size and (similarity) load.
+    fn sized(mut axes: Axes) -> Axes {
+        axes.0[PHI].raw_length = Some(6e-3);
+        axes.validate().unwrap();
+        axes
+    }
+
     /// The linear dimensions of [`tiny_axes`] that can be interpolated in ln x (all but w), with a point
     /// of each axis.
     const LOG_DIMS: [(usize, f64); 4] = [
@@ -1742,7 +1750,11 @@ mod tests {
     #[test]
     fn interpolant_reproduces_symmetric_multilinear_functions_and_their_derivatives() {
         let params = coarse_params();
-        for axes in [tiny_axes(), blended(tiny_axes())] {
+        for axes in [
+            tiny_axes(),
+            blended(tiny_axes()),
+            sized(blended(tiny_axes())),
+        ] {
             let f = in_rise(&params, &axes, symmetric_multilinear);
             reproduces(&synthetic(&axes, &params, &f), &f);
         }
@@ -2053,7 +2065,13 @@ mod tests {
         let params = coarse_params();
         let mut axes = tiny_axes();
         axes.0[XI].points = vec![0.0, 0.2, 0.6, 2.0, 6.0, 10.0];
-        for axes in [axes.clone(), similar(axes.clone()), similar(blended(axes))] {
+        for axes in [
+            axes.clone(),
+            similar(axes.clone()),
+            similar(blended(axes.clone())),
+            sized(blended(axes.clone())),
+            similar(sized(blended(axes))),
+        ] {
             jacobian_is_the_derivative_of(&synthetic(&axes, &params, &symmetric_saturating));
         }
     }
@@ -2585,6 +2603,7 @@ mod tests {
             blended(tiny_axes()),
             similar(tiny_axes()),
             similar(blended(tiny_axes())),
+            similar(sized(blended(tiny_axes()))),
         ] {
             built_nodes_are_exact(&axes);
         }

@@ -101,9 +101,7 @@ pub fn sample_points(table: &Table, n: usize, seed: u64) -> Vec<Sample> {
                 let (lo, hi) = if d < FORCE {
                     let (_, e) = coords.point(&q).expect("a valid table node");
                     let k = coords.scales(&e, q[FORCE]).expect("a valid contact")[d];
-                    let top = a
-                        .raw_limit
-                        .map_or(a.max(), |l| coords.map(d, l, k).q.min(a.max()));
+                    let top = a.raw_limit.map_or(a.max(), |l| k.map(l).q.min(a.max()));
                     (if a.mirrored { -top } else { a.min().max(-top) }, top)
                 } else {
                     (a.min(), a.max())
