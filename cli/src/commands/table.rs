@@ -593,8 +593,13 @@ fn info(dir: &Path) -> Result<()> {
             if a.mirrored { ", mirrored" } else { "" },
             a.raw_limit
                 .map_or(String::new(), |l| format!(", raw limit {l}")),
-            a.raw_scale
-                .map_or(String::new(), |k| format!(", knee-blended (raw scale {k})")),
+            a.raw_scale.map_or(String::new(), |k| match a.raw_length {
+                Some(l) => format!(
+                    ", knee-blended (raw scale {k} at contact size sqrt(a²+b²) = {l} m, in \
+                     proportion to it)"
+                ),
+                None => format!(", knee-blended (raw scale {k})"),
+            }),
             if a.similarity {
                 ", similarity: equivalent speeds V·sqrt(F_N/100 kN) of every load, p_ref = p0 \
                  (docs/model.md §9.1)"
