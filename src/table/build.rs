@@ -192,7 +192,7 @@ impl Cube {
         for (d, w) in windows.iter_mut().enumerate() {
             let axis = &axes.0[d];
             let limit = axis.raw_limit.unwrap_or(axis.max());
-            // the coordinate of the raw limit grows with k (coords::map is increasing in k)
+            // the coordinate of the raw limit grows with k and k_r (coords::map is increasing in both)
             *w = window(&axis.points, k_max[d].map(limit).q);
             let reach = scales[d].unmap(axis.points[w.0].abs().max(axis.points[w.1].abs()));
             if coords.normalised() && reach > SOLVER_RAW_LIMITS[d] {

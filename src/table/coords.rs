@@ -294,7 +294,8 @@ impl Coordinates {
         std::array::from_fn(|d| Scale {
             k: k[d],
             raw: self.raw_scales[d].map(|kr| match self.raw_lengths[d] {
-                Some(l) => kr * e.a.hypot(e.b) / l,
+                // (semi-axes of metres: no overflow to guard against, as hypot does at its cost)
+                Some(l) => kr * (e.a * e.a + e.b * e.b).sqrt() / l,
                 None => kr,
             }),
         })
@@ -558,8 +559,9 @@ mod tests {
                     "k {k} x {x}: {} vs {fk}",
                     m.dlnk
                 );
-                // (q is linear in k_r: a wide central difference is exact but for rounding)
-                let fr = (map(x, k, Some(kr * 1.5)).q - map(x, k, Some(kr * 0.5)).q) / 1.0;
+                // (q is linear in k_r: the difference over k_r·(1 ± 1/2), a change of k_r in all, is
+                // k_r·∂q/∂k_r but for rounding)
+                let fr = map(x, k, Some(kr * 1.5)).q - map(x, k, Some(kr * 0.5)).q;
                 assert!(
                     (m.dlnr - fr).abs() <= 1e-6 * (m.dlnr.abs() + 1e-9),
                     "k {k} x {x}: {} vs {fr}",
