@@ -733,6 +733,8 @@ impl Axes {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::params::Params;
+    use crate::table::coords::{Coordinates, Ellipse, semi_axes};
 
     #[test]
     fn default_axes_cover_the_issue_ranges() {
@@ -1016,20 +1018,37 @@ mod tests {
             let limit = if w[1] <= 0.76e9 { 1.5 + 1e-9 } else { 1.105 };
             assert!(w[1] / w[0] <= limit, "{w:?}");
         }
-        // the same creepage, speed and wetness axes as the running surface's, but for the spin's nodes:
-        // the same count, range and raw limit, denser near 0 (the whole range's small contacts, a/b 0.2,
-        // reach only |φ̂| ≤ 0.15 at the raw limit)
+        // the same creepage, speed and wetness axes as the running surface's, but for the spin's: the same
+        // count, raw limit and raw scale, that in proportion to the contact's size (the default contact's
+        // 12 mm keeps 0.4 m), so the axis reaches ±2.4, where the largest contacts' raw limit lies; denser
+        // near 0 (the whole range's small contacts, a/b 0.2, reach only |φ̂| ≤ 0.15 at the raw limit)
         for d in [XI, ETA, SPEED, WET] {
             assert_eq!(whole.0[d], surface.0[d], "{d}");
         }
         let (w, s) = (&whole.0[PHI], &surface.0[PHI]);
         assert_eq!(
-            (w.points.len(), w.min(), w.max()),
-            (s.points.len(), s.min(), s.max())
+            (w.points.len(), w.raw_limit, w.raw_scale),
+            (s.points.len(), s.raw_limit, s.raw_scale)
         );
-        assert_eq!((w.raw_limit, w.raw_scale), (s.raw_limit, s.raw_scale));
+        assert_eq!((w.min(), w.max(), w.raw_length), (-2.4, 2.4, Some(0.012)));
+        let coords = Coordinates::new(&Params::default(), &whole);
+        let limit_at = |ratio: f64, p0: f64| {
+            let [a, b] = semi_axes(ratio, p0, REFERENCE_FORCE);
+            let e = Ellipse {
+                a,
+                b,
+                load_exponent: 0.0,
+            };
+            coords.scales(&e, REFERENCE_FORCE).unwrap()[PHI].map(1.0).q
+        };
+        for ratio in [0.2, 5.0] {
+            let top = limit_at(ratio, 0.15e9);
+            // (beyond the ±1.6 of one raw scale for all)
+            assert!(top > 1.8 && top < w.max(), "a/b {ratio}: {top}");
+        }
         let near_zero = |a: &Axis| a.points.iter().filter(|x| (0.0..0.12).contains(*x)).count();
         assert_eq!((near_zero(s), near_zero(w)), (2, 3));
+        assert!(limit_at(0.2, 1.13e9) < 0.15);
     }
 
     #[test]
