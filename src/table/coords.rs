@@ -283,22 +283,28 @@ impl Coordinates {
     /// normalised creepages).
     #[inline(always)]
     fn scales_of(&self, e: &Ellipse, force: f64, k: Option<&KalkerCoefficients>) -> [Scale; 3] {
-        let k = match k.filter(|_| self.normalised) {
-            Some(k) => {
+        let k = match k {
+            Some(k) if self.normalised => {
                 let c = e.radius();
                 let gc2 = self.shear_modulus * c * c / force;
                 [gc2 * k.c11, gc2 * k.c22, gc2 * c * k.c23]
             }
-            None => [1.0; 3],
+            _ => [1.0; 3],
         };
-        std::array::from_fn(|d| Scale {
-            k: k[d],
-            raw: self.raw_scales[d].map(|kr| match self.raw_lengths[d] {
-                // (semi-axes of metres: no overflow to guard against, as hypot does at its cost)
-                Some(l) => kr * (e.a * e.a + e.b * e.b).sqrt() / l,
-                None => kr,
-            }),
-        })
+        // (a loop and matches, not `array::from_fn` and `Option::map`, whose closures stay calls outside
+        // the lookup kernel's instruction set)
+        let mut scales = [Scale { k: 1.0, raw: None }; 3];
+        for d in 0..3 {
+            scales[d] = Scale {
+                k: k[d],
+                raw: match (self.raw_scales[d], self.raw_lengths[d]) {
+                    // (semi-axes of metres: no overflow to guard against, as hypot does at its cost)
+                    (Some(kr), Some(l)) => Some(kr * (e.a * e.a + e.b * e.b).sqrt() / l),
+                    (kr, _) => kr,
+                },
+            };
+        }
+        scales
     }
 
     /// The flexibility ratios L2/L1, L3/L1 of contact `e` that its direction factor Λ weighs η and c·φ with
