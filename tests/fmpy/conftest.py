@@ -11,6 +11,7 @@ import pathlib
 import subprocess
 
 import pytest
+from fmpy import extract
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 FMU = pathlib.Path(os.environ.get("WHEELRAIL_FMU", ROOT / "target" / "fmu" / "WheelRailFriction.fmu"))
@@ -33,6 +34,12 @@ def fmu_path():
     if not FMU.exists():
         pytest.fail(f"{FMU} is missing: build it with `make fmu`")
     return str(FMU)
+
+
+@pytest.fixture(scope="session")
+def unzipped_fmu(fmu_path, tmp_path_factory):
+    """The FMU extracted once per session into pytest's temporary directory (removed with its old runs)."""
+    return extract(fmu_path, unzipdir=str(tmp_path_factory.mktemp("fmu")))
 
 
 TABLE = ROOT / "fmu" / "resources" / "table"

@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from fmpy import extract, read_model_description
+from fmpy import read_model_description
 from fmpy.fmi2 import FMU2Slave
 
 from conftest import GRID
@@ -16,10 +16,10 @@ POINT = dict(creepage_longitudinal=0.003, creepage_lateral=-0.001, spin_creepage
 
 
 @pytest.fixture()
-def slave(fmu_path):
+def slave(fmu_path, unzipped_fmu):
     md = read_model_description(fmu_path)
     vr = {v.name: v.valueReference for v in md.modelVariables}
-    unzipped = extract(fmu_path)
+    unzipped = unzipped_fmu
     fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped, modelIdentifier=md.coSimulation.modelIdentifier,
                     instanceName="jacobian")
     fmu.instantiate()

@@ -3,7 +3,7 @@ inputs, and the ME instance provides the integrator's Jacobian of the algebraic 
 
 import numpy as np
 import pytest
-from fmpy import extract, read_model_description, simulate_fmu
+from fmpy import read_model_description, simulate_fmu
 from fmpy.fmi2 import FMU2Model, FMU2Slave
 
 from conftest import GRID
@@ -59,11 +59,11 @@ def test_model_exchange_simulation_equals_co_simulation_at_the_same_inputs(fmu_p
 
 
 @pytest.fixture()
-def instances(fmu_path):
+def instances(fmu_path, unzipped_fmu):
     """An ME instance in continuous-time mode and a CS instance, both exact and cold on the test grid."""
     md = read_model_description(fmu_path)
     vr = {v.name: v.valueReference for v in md.modelVariables}
-    unzipped = extract(fmu_path)
+    unzipped = unzipped_fmu
     made = []
     for cls, name in [(FMU2Model, "me"), (FMU2Slave, "cs")]:
         fmu = cls(guid=md.guid, unzipDirectory=unzipped, modelIdentifier="WheelRailFriction", instanceName=name)

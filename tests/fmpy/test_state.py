@@ -2,7 +2,7 @@
 serialized and deserialized copy in a fresh instance, continues exactly as the instance it was taken of."""
 
 import pytest
-from fmpy import extract, read_model_description
+from fmpy import read_model_description
 from fmpy.fmi2 import FMU2Slave
 
 INPUTS = ["creepage_longitudinal", "creepage_lateral", "normal_force", "rolling_speed", "wetness"]
@@ -15,9 +15,9 @@ AFTER = [[0.02, 0.001, 80e3, 20.0, 0.0], [0.01, -0.002, 90e3, 25.0, 0.3], [0.003
 
 
 @pytest.fixture(scope="module")
-def fmu_files(fmu_path):
+def fmu_files(fmu_path, unzipped_fmu):
     md = read_model_description(fmu_path)
-    return md, {v.name: v.valueReference for v in md.modelVariables}, extract(fmu_path)
+    return md, {v.name: v.valueReference for v in md.modelVariables}, unzipped_fmu
 
 
 def instance(fmu_files, name, mode=None, roughness=None, warm_start=None):
