@@ -10,7 +10,7 @@
 use anyhow::{Result, bail};
 use std::path::{Path, PathBuf};
 use wheelrail::Tangential;
-use wheelrail::table::Storage;
+use wheelrail::table::{Resolution, Storage};
 
 /// Name of the array-job script in the job directory.
 pub const BUILD_SCRIPT: &str = "build.sbatch";
@@ -40,6 +40,9 @@ pub struct SlurmJob {
     pub tangential: Option<Tangential>,
     /// Storage of the merged table, passed to every build (`--storage`; shards record it).
     pub storage: Storage,
+    /// The coarsest code steps of the quantised storage, passed to every build (`--resolution`; shards
+    /// record it).
+    pub resolution: Option<Resolution>,
     /// Number of shards N = array tasks 1..=N.
     pub shards: usize,
     /// CPUs per task, also the worker threads of each build (`RAYON_NUM_THREADS`).
@@ -154,6 +157,9 @@ impl SlurmJob {
         if !self.storage.is_f32() {
             inputs += &format!(" --storage {}", self.storage);
         }
+        if let Some(r) = self.resolution {
+            inputs += &format!(" --resolution {r}");
+        }
         vars += &format!("export RAYON_NUM_THREADS=\"${{SLURM_CPUS_PER_TASK:-{c}}}\"\n");
         let build = format!(
             "#!/bin/bash\n\
@@ -242,6 +248,7 @@ mod tests {
             axes: Some("/home/u/axes.toml".into()),
             tangential: None,
             storage: Storage::F32,
+            resolution: None,
             shards: 12,
             cpus_per_task: 8,
             time: Some("02:30:00".into()),
@@ -323,6 +330,21 @@ mod tests {
             "{b}"
         );
         assert!(!job().scripts().unwrap().build.contains("--storage"));
+    }
+
+    #[test]
+    fn a_resolution_is_passed_to_every_build_as_it_reads_back() {
+        let r = Resolution::parse("1e-4,0.1").unwrap();
+        let j = SlurmJob {
+            storage: Storage::U16x,
+            resolution: Some(r),
+            ..job()
+        };
+        let b = j.scripts().unwrap().build;
+        let flag = "--storage u16x --resolution 0.0001,0.1 --shard";
+        assert!(b.contains(flag), "{b}");
+        assert_eq!(Resolution::parse("0.0001,0.1").unwrap(), r);
+        assert!(!job().scripts().unwrap().build.contains("--resolution"));
     }
 
     #[test]

@@ -655,6 +655,121 @@ fn a_u16_table_holds_the_f32_values_to_half_a_step_in_half_the_bytes() {
         let e = Table::load(&cut).unwrap_err().to_string();
         assert!(e.contains(&file) && e.contains(stream), "{e}");
     }
+
+    // --resolution F,T: codes step by max(range/65 535, F) (T for T_max), every value within half of that
+    // of the f32 build's, exact zeros kept, fewer bytes than the finest codes, the probes still pass
+    let coarse = tmp("u16-coarse");
+    let coarse_args = ["--storage", "u16x", "--resolution", "1e-3,0.5"];
+    build(&params, &axes, &coarse, &coarse_args, "2");
+    let c = TableFiles::read(&coarse).unwrap();
+    let res = &sidecar(&coarse)["resolution"];
+    assert_eq!(
+        (
+            res["per_normal_force"].as_f64(),
+            res["temperature"].as_f64()
+        ),
+        (Some(1e-3), Some(0.5))
+    );
+    let mut zeros = 0;
+    for (o, (rc, ru)) in c.sidecar.outputs.iter().zip(&b.sidecar.outputs).enumerate() {
+        let (q, fine) = (rc.quantization.unwrap(), ru.quantization.unwrap());
+        let floor = if rc.name == "max_temperature" {
+            0.5
+        } else {
+            1e-3
+        };
+        assert_eq!(q.step, fine.step.max(floor), "{}", rc.name);
+        for (x, y) in a.outputs[o].iter().zip(&c.outputs[o]) {
+            let err = (f64::from(*x) - f64::from(*y)).abs();
+            assert!(
+                err <= 0.5 * q.step + 1e-7 * f64::from(x.abs()),
+                "{}: {x} {y}",
+                rc.name
+            );
+            if *x == 0.0 {
+                zeros += 1;
+                assert_eq!(*y, 0.0, "{}", rc.name);
+            }
+        }
+        // the coarser codes compress to fewer bytes (the f32 table varies by more than F over its range)
+        let fine_x = size(
+            &u16_dir.with_file_name("u16-u16x"),
+            &ru.file.replace(".npy", ".u16x"),
+        );
+        assert!(size(&coarse, &rc.file) < 0.8 * fine_x, "{}", rc.name);
+    }
+    // F_x/F_N at zero creepage and the dry fluid load fraction
+    assert!(zeros > 10, "{zeros}");
+    Table::load(&coarse).unwrap().check_probes().unwrap();
+    let info = ok(&wheelrail(&["table", "info", s(&coarse)], None));
+    assert!(
+        info.contains("resolution      codes step by at least 0.001"),
+        "{info}"
+    );
+    // a build with another resolution (or none) is not the one --resume keeps
+    let resumed = |extra: &[&str]| {
+        let mut args = vec!["table", "build", "--params", s(&params), "--axes", s(&axes)];
+        args.extend(["--out", s(&coarse), "--resume"]);
+        args.extend(extra);
+        String::from_utf8_lossy(&wheelrail(&args, Some("2")).stderr).into_owned()
+    };
+    assert!(resumed(&coarse_args).contains("already holds this build"));
+    assert!(
+        !resumed(&["--storage", "u16x", "--resolution", "1e-3,0.25"]).contains("already holds")
+    );
+    // shards record the resolution and merge to the bytes of one build; other resolutions do not merge
+    let res_shards: Vec<PathBuf> = (1..=2).map(|k| tmp(&format!("u16-res-shard{k}"))).collect();
+    for (k, d) in res_shards.iter().enumerate() {
+        let shard = format!("{}/2", k + 1);
+        let args = [
+            "--storage",
+            "u16x",
+            "--resolution",
+            "1e-3,0.5",
+            "--shard",
+            &shard,
+        ];
+        build(&params, &axes, d, &args, "2");
+    }
+    let res_merged = tmp("u16-res-merged");
+    let merge = |out: &Path, second: &Path| {
+        let args = ["table", "merge", s(out), s(&res_shards[0]), s(second)];
+        wheelrail(&args, None)
+    };
+    ok(&merge(&res_merged, &res_shards[1]));
+    build(&params, &axes, &coarse, &coarse_args, "2");
+    assert_eq!(array_files(&res_merged), array_files(&coarse));
+    let other = tmp("u16-res-other");
+    let args = [
+        "--storage",
+        "u16x",
+        "--resolution",
+        "2e-3,0.5",
+        "--shard",
+        "2/2",
+    ];
+    build(&params, &axes, &other, &args, "2");
+    let o = merge(&tmp("u16-res-mixed"), &other);
+    assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("resolution"));
+    // refused: a resolution without u16 storage, a malformed one, one recorded in an f32 table
+    for bad in [
+        &["--resolution", "1e-4,0.1"][..],
+        &["--storage", "u16", "--resolution", "1e-4"],
+    ] {
+        let mut args = vec!["table", "build", "--axes", s(&axes), "--out", s(&other)];
+        args.extend(bad);
+        let o = wheelrail(&args, None);
+        assert!(!o.status.success(), "{bad:?}");
+        assert!(
+            String::from_utf8_lossy(&o.stderr).contains("resolution"),
+            "{bad:?}"
+        );
+    }
+    let e = broken("u16-res-f32", &|v| {
+        v["resolution"] = serde_json::json!({"per_normal_force": 1e-4, "temperature": 0.1});
+        v.as_object_mut().unwrap().remove("storage");
+    });
+    assert!(e.contains("resolution") && e.contains("u16 storage"), "{e}");
     cleanup("u16-");
 }
 

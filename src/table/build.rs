@@ -36,8 +36,8 @@ use super::axes::{Axes, DIMS, ETA, FORCE, PHI, PRESSURE, RATIO, XI};
 use super::coords::{Coordinates, Ellipse, Scale};
 use super::file::{
     ArrayRecord, BuildRecord, FORMAT, FORMAT_VERSION, FilmIntake, MODEL_VERSION, OUTPUTS,
-    ShardRecord, Sidecar, Storage, TableFiles, UnconvergedRecord, axis_records, corrupt,
-    cube_count, cube_len, fingerprint, now_iso8601, shard_indices, symmetry_notes,
+    Resolution, ShardRecord, Sidecar, Storage, TableFiles, UnconvergedRecord, axis_records,
+    corrupt, cube_count, cube_len, fingerprint, now_iso8601, shard_indices, symmetry_notes,
 };
 use crate::error::{Error, Result};
 use crate::params::{FrictionLaw, OperatingPoint, Params};
@@ -462,6 +462,7 @@ fn sidecar(
         moment_scale: None,
         shard,
         storage: Storage::F32,
+        resolution: None,
         build: BuildRecord {
             date: now_iso8601(),
             duration_seconds,
@@ -472,18 +473,19 @@ fn sidecar(
 }
 
 /// Whether two builds (tables or shards, by sidecar and axes) computed the same values: the same
-/// parameters (and fingerprint), axes, model version and storage; their shard records aside.
+/// parameters (and fingerprint), axes, model version, storage and resolution; their shard records aside.
 fn same_build((s, axes): (&Sidecar, &Axes), (other, other_axes): (&Sidecar, &Axes)) -> bool {
     s.fingerprint == other.fingerprint
         && s.params == other.params
         && axes == other_axes
         && s.model_version == other.model_version
         && s.storage == other.storage
+        && s.resolution == other.resolution
 }
 
 /// Whether `dir` already holds what [`build`] computes from `params`, `axes` and `shard`, recorded with
-/// `storage`: a table (or shard) that reads and verifies (sidecar, every array's SHA-256) and was built
-/// with the same parameters, axes, model version, storage and shard. An interrupted or resubmitted
+/// `storage` and `resolution`: a table (or shard) that reads and verifies (sidecar, every array's SHA-256)
+/// and was built with the same parameters, axes, model version, storage, resolution and shard. An interrupted or resubmitted
 /// sharded build so recomputes only what is missing (`wheelrail table build --resume`); a directory the
 /// build was killed while writing fails the checksums (the sidecar is written last) and is not built.
 pub fn is_built(
@@ -492,12 +494,14 @@ pub fn is_built(
     axes: &Axes,
     shard: Option<ShardRecord>,
     storage: Storage,
+    resolution: Option<Resolution>,
 ) -> bool {
     let Ok(t) = TableFiles::read(dir) else {
         return false;
     };
     let mut expected = sidecar(params, axes, shard, Vec::new(), 0.0);
     expected.storage = storage;
+    expected.resolution = resolution;
     t.sidecar.shard == shard && same_build((&t.sidecar, &t.axes), (&expected, axes))
 }
 
@@ -535,7 +539,7 @@ pub fn merge(mut shards: Vec<(TableFiles, &Path)>) -> Result<TableFiles> {
             return Err(corrupt(
                 p,
                 format!(
-                    "was built with other parameters, axes, storage or model version than {}",
+                    "was built with other parameters, axes, storage, resolution or model version than {}",
                     first_path.display()
                 ),
             ));

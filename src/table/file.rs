@@ -252,9 +252,66 @@ impl std::fmt::Display for Storage {
     }
 }
 
+/// The coarsest code steps a quantised table may use (`table build --resolution`, recorded in the
+/// sidecar): an array's codes step by max(range/65 535, its resolution), so a value lies within half of
+/// that of the computed one. The interpolation errors the accuracy targets allow are some 1e-3 of F/F_N and
+/// K of T_max, so e.g. 1e-4 and 0.1 K cost no accuracy, and the fewer distinct codes compress to about half
+/// the bytes (docs/model.md §12.3, Storage).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Resolution {
+    /// The outputs relative to the normal force (unit "-": F_x/F_N, F_y/F_N, M_z/(F_N·c), the fluid load
+    /// fraction, P_f/(F_N·V)).
+    pub per_normal_force: f64,
+    /// T_max [K].
+    pub temperature: f64,
+}
+
+impl Resolution {
+    /// The resolution `F,T` (F of the outputs per F_N, T of T_max in K; both finite and > 0).
+    pub fn parse(text: &str) -> std::result::Result<Resolution, String> {
+        let bad = || {
+            format!(
+                "resolution {text:?}: expected F,T (e.g. 1e-4,0.1: steps of the outputs per normal force \
+                 and of T_max in K, both finite and > 0)"
+            )
+        };
+        let (f, t) = text.split_once(',').ok_or_else(bad)?;
+        let r = Resolution {
+            per_normal_force: f.trim().parse().map_err(|_| bad())?,
+            temperature: t.trim().parse().map_err(|_| bad())?,
+        };
+        r.valid().then_some(r).ok_or_else(bad)
+    }
+
+    /// Whether both steps are finite and > 0.
+    fn valid(&self) -> bool {
+        [self.per_normal_force, self.temperature]
+            .iter()
+            .all(|s| s.is_finite() && *s > 0.0)
+    }
+
+    /// The coarsest step of an output (by its unit: K is T_max, the others are per normal force).
+    pub fn of(&self, output: &OutputInfo) -> f64 {
+        if output.unit == "K" {
+            self.temperature
+        } else {
+            self.per_normal_force
+        }
+    }
+}
+
+impl std::fmt::Display for Resolution {
+    /// As [`Resolution::parse`] reads it.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{},{}", self.per_normal_force, self.temperature)
+    }
+}
+
 /// The linear 16-bit code of one array: value = offset + step·code, code 0..=65535, offset the array's
 /// smallest value and step its range / 65535 (0 for a constant array): rounding to the nearest code errs
-/// by at most step/2.
+/// by at most step/2. With a coarser step (a [`Resolution`]) the offset is a whole multiple of the step if
+/// the codes still fit, so that 0 has a code: a force that is exactly 0 (at zero creepage) stays 0.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Quantization {
@@ -268,8 +325,12 @@ impl Quantization {
     /// Largest code.
     const TOP: f64 = u16::MAX as f64;
 
-    /// The quantisation of `values` and their codes; an error for a non-finite value.
-    pub fn of(values: &[f32]) -> std::result::Result<(Quantization, Vec<u16>), String> {
+    /// The quantisation of `values` and their codes, with a step of at least `coarsest` (0: the finest
+    /// the codes allow); an error for a non-finite value.
+    pub fn of(
+        values: &[f32],
+        coarsest: f64,
+    ) -> std::result::Result<(Quantization, Vec<u16>), String> {
         if values.iter().any(|v| !v.is_finite()) {
             return Err("non-finite values cannot be stored as u16".into());
         }
@@ -278,9 +339,26 @@ impl Quantization {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
                 (lo.min(f64::from(*v)), hi.max(f64::from(*v)))
             });
-        let q = Quantization {
-            offset: if lo.is_finite() { lo } else { 0.0 },
-            step: if hi > lo { (hi - lo) / Self::TOP } else { 0.0 },
+        let q = if hi <= lo {
+            Quantization {
+                offset: if lo.is_finite() { lo } else { 0.0 },
+                step: 0.0,
+            }
+        } else if coarsest > (hi - lo) / Self::TOP {
+            let offset = coarsest * (lo / coarsest).floor();
+            Quantization {
+                offset: if ((hi - offset) / coarsest).round() <= Self::TOP {
+                    offset
+                } else {
+                    lo
+                },
+                step: coarsest,
+            }
+        } else {
+            Quantization {
+                offset: lo,
+                step: (hi - lo) / Self::TOP,
+            }
         };
         let codes = values
             .iter()
@@ -402,6 +480,9 @@ pub struct Sidecar {
     /// it merges into).
     #[serde(default, skip_serializing_if = "Storage::is_f32")]
     pub storage: Storage,
+    /// The coarsest code steps of a quantised storage ([`Resolution`]; absent: range/65 535 per array).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resolution: Option<Resolution>,
     /// Date, duration, threads.
     pub build: BuildRecord,
 }
@@ -710,7 +791,8 @@ impl TableFiles {
             };
             let path = dir.join(&file);
             let (bytes, quantization) = if quantised {
-                let (q, codes) = Quantization::of(data).map_err(|e| corrupt(&path, e))?;
+                let coarsest = self.sidecar.resolution.map_or(0.0, |r| r.of(info));
+                let (q, codes) = Quantization::of(data, coarsest).map_err(|e| corrupt(&path, e))?;
                 // the table in memory holds what a read of the files gives
                 for (v, c) in data.iter_mut().zip(&codes) {
                     *v = q.value(*c);
@@ -837,6 +919,17 @@ impl TableFiles {
             None if sidecar.format_version == 1 => axes.shape()[..RATIO].to_vec(),
             None => axes.shape().to_vec(),
         };
+        if let Some(r) = sidecar.resolution {
+            if !r.valid() || sidecar.storage.is_f32() {
+                return Err(corrupt(
+                    &side_path,
+                    format!(
+                        "resolution {r} needs a u16 storage (not {}) and steps finite and > 0",
+                        sidecar.storage
+                    ),
+                ));
+            }
+        }
         let quantised = sidecar.quantised();
         let compressed = sidecar.compressed();
         let mut outputs = Vec::with_capacity(OUTPUTS);
@@ -1166,7 +1259,7 @@ mod tests {
         let values: Vec<f32> = (0..1000)
             .map(|i| (f64::from(i) * 0.37).sin() as f32 * 0.6 + 300.0)
             .collect();
-        let (q, codes) = Quantization::of(&values).unwrap();
+        let (q, codes) = Quantization::of(&values, 0.0).unwrap();
         assert_eq!(*codes.iter().min().unwrap(), 0);
         assert_eq!(*codes.iter().max().unwrap(), u16::MAX);
         for (v, c) in values.iter().zip(&codes) {
@@ -1178,11 +1271,61 @@ mod tests {
             );
         }
         // a constant array: step 0, every code 0, the value itself
-        let (q, codes) = Quantization::of(&[0.25; 7]).unwrap();
+        let (q, codes) = Quantization::of(&[0.25; 7], 0.0).unwrap();
         assert_eq!((q.offset, q.step), (0.25, 0.0));
         assert!(codes.iter().all(|c| *c == 0) && q.value(0) == 0.25);
-        assert!(Quantization::of(&[1.0, f32::NAN]).is_err());
-        assert!(Quantization::of(&[f32::INFINITY]).is_err());
+        assert!(Quantization::of(&[1.0, f32::NAN], 0.0).is_err());
+        assert!(Quantization::of(&[f32::INFINITY], 1e-3).is_err());
+    }
+
+    #[test]
+    fn a_coarsest_step_rounds_to_its_multiples_and_keeps_zero_exact() {
+        // an odd function sampled symmetrically, as F_y over (η, φ) -> (-η, -φ), with exact zeros
+        let values: Vec<f32> = (-500..=500)
+            .map(|i| (f64::from(i) * 0.0123).sin() as f32 * 0.37)
+            .collect();
+        let (q, codes) = Quantization::of(&values, 1e-3).unwrap();
+        assert_eq!(q.step, 1e-3);
+        // the offset a whole multiple of the step: codes of one array are multiples of the step
+        assert_eq!((q.offset / q.step).round() * q.step, q.offset);
+        let back: Vec<f32> = codes.iter().map(|c| q.value(*c)).collect();
+        for (v, b) in values.iter().zip(&back) {
+            assert!(
+                (f64::from(*v) - f64::from(*b)).abs() <= 0.5e-3 + 1e-8,
+                "{v} {b}"
+            );
+        }
+        assert_eq!(back[500], 0.0);
+        // symmetric values keep their symmetry
+        for i in 0..500 {
+            assert_eq!(back[i], -back[1000 - i], "{i}");
+        }
+        // fewer distinct codes than the finest quantisation uses
+        let fine = Quantization::of(&values, 0.0).unwrap();
+        assert!(fine.0.step < 1.2e-5 && fine.1.iter().max() == Some(&u16::MAX));
+        assert!(*codes.iter().max().unwrap() <= 741);
+        // a step finer than range/65 535 changes nothing; a constant array stays exact
+        assert_eq!(Quantization::of(&values, 1e-6).unwrap(), fine);
+        let (c, _) = Quantization::of(&[0.3; 4], 1e-3).unwrap();
+        assert_eq!((c.offset, c.step), (f64::from(0.3f32), 0.0));
+        // a range just below 65 535 steps, its offset snapped down, would need code 65 536: not snapped
+        let wide = [0.00099f32, 65.53589];
+        let (w, wc) = Quantization::of(&wide, 1e-3).unwrap();
+        assert_eq!((w.offset, w.step), (f64::from(0.00099f32), 1e-3));
+        assert_eq!(wc, [0, 65535]);
+    }
+
+    #[test]
+    fn resolutions_parse_display_and_refuse_bad_steps() {
+        let r = Resolution::parse("1e-4, 0.1").unwrap();
+        assert_eq!((r.per_normal_force, r.temperature), (1e-4, 0.1));
+        assert_eq!(Resolution::parse(&r.to_string()).unwrap(), r);
+        assert_eq!(r.of(&OUTPUT_INFO[3]), 0.1);
+        assert!(OUTPUT_INFO.iter().filter(|o| r.of(o) == 1e-4).count() == OUTPUTS - 1);
+        for bad in ["1e-4", "0,0.1", "1e-4,-1", "nan,0.1", "1e-4,inf", "a,b", ""] {
+            let e = Resolution::parse(bad).unwrap_err();
+            assert!(e.contains("F,T"), "{bad}: {e}");
+        }
     }
 
     #[test]

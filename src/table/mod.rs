@@ -30,8 +30,8 @@ pub use axes::{Axes, AxesSpec, Axis, AxisSpec, DIMENSIONS, DIMS, Interpolation, 
 pub use build::{build, is_built, merge, solve_with_retry, tabulate};
 pub use coords::{Coordinates, Ellipse};
 pub use file::{
-    FilmIntake, OUTPUT_INFO, OUTPUTS, Quantization, ShardRecord, Sidecar, Storage, TableFiles,
-    fingerprint,
+    FilmIntake, OUTPUT_INFO, OUTPUTS, Quantization, Resolution, ShardRecord, Sidecar, Storage,
+    TableFiles, fingerprint,
 };
 
 use crate::error::{Error, Result};

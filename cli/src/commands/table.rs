@@ -12,7 +12,7 @@ use wheelrail::table::file::{ShardRecord, TableFiles};
 use wheelrail::table::verify::{
     self, TARGET_MAX, TARGET_P99, TARGET_TEMPERATURE_P99, VerifyReport,
 };
-use wheelrail::table::{self, Axes, DIMENSIONS, Table, TableOutput, coords};
+use wheelrail::table::{self, Axes, DIMENSIONS, Resolution, Storage, Table, TableOutput, coords};
 use wheelrail::{OperatingPoint, Params};
 use wheelrail_cli::slurm::{self, SlurmJob};
 
@@ -65,8 +65,13 @@ struct BuildArgs {
     /// shard stores f32 and records it for `wheelrail table merge`.
     #[arg(long, value_enum, default_value = "f32")]
     storage: StorageArg,
-    /// Keep what --out holds if it is this build (the same parameters, axes, shard, storage and model
-    /// version; every array's checksum verified) and compute nothing; build as without otherwise. A
+    /// With a u16 storage: the coarsest code steps F,T, F of the outputs per normal force (F/F_N, M_z/(F_N·c),
+    /// the fluid load fraction, P_f/(F_N·V)) and T of T_max [K], e.g. 1e-4,0.1: each value within half a
+    /// step of the computed one, about half the compressed bytes [default: range/65 535 per array].
+    #[arg(long, value_name = "F,T", value_parser = parse_resolution)]
+    resolution: Option<Resolution>,
+    /// Keep what --out holds if it is this build (the same parameters, axes, shard, storage, resolution and
+    /// model version; every array's checksum verified) and compute nothing; build as without otherwise. A
     /// resubmitted array job or a rerun of an interrupted series of shards so recomputes only the
     /// shards that are missing or damaged.
     #[arg(long)]
@@ -94,6 +99,9 @@ struct SlurmArgs {
     /// Storage of the merged table (`table build --storage`).
     #[arg(long, value_enum, default_value = "f32")]
     storage: StorageArg,
+    /// Coarsest code steps of the merged table's u16 storage (`table build --resolution`).
+    #[arg(long, value_name = "F,T", value_parser = parse_resolution)]
+    resolution: Option<Resolution>,
     /// CPUs per array task, also each build's worker threads (RAYON_NUM_THREADS).
     #[arg(long, value_name = "C", default_value_t = 1)]
     cpus_per_task: usize,
@@ -197,7 +205,9 @@ fn build(a: &BuildArgs) -> Result<()> {
         None => Axes::default(),
     };
     let shard = a.shard.as_deref().map(parse_shard).transpose()?;
-    if a.resume && table::is_built(&a.out, &params, &axes, shard, a.storage.into()) {
+    let storage = a.storage.into();
+    needs_u16(storage, a.resolution)?;
+    if a.resume && table::is_built(&a.out, &params, &axes, shard, storage, a.resolution) {
         eprintln!(
             "{} already holds this build (--resume): kept, nothing computed",
             a.out.display()
@@ -216,10 +226,23 @@ fn build(a: &BuildArgs) -> Result<()> {
     );
     let pb = progress(points, "points");
     let mut files = table::build(&params, &axes, shard, &|| pb.inc(1))?;
-    files.sidecar.storage = a.storage.into();
+    files.sidecar.storage = storage;
+    files.sidecar.resolution = a.resolution;
     pb.finish_and_clear();
     files.write(&a.out)?;
     report_written(&a.out, &files);
+    Ok(())
+}
+
+fn parse_resolution(text: &str) -> std::result::Result<Resolution, String> {
+    Resolution::parse(text)
+}
+
+/// A resolution is one of u16 codes: refused with f32 storage.
+fn needs_u16(storage: Storage, resolution: Option<Resolution>) -> Result<()> {
+    if storage.is_f32() && resolution.is_some() {
+        bail!("--resolution sets the steps of u16 codes: it needs --storage u16, u16z or u16x");
+    }
     Ok(())
 }
 
@@ -272,6 +295,7 @@ fn canonical(what: &str, p: &Path) -> Result<PathBuf> {
 }
 
 fn slurm(a: &SlurmArgs) -> Result<()> {
+    needs_u16(a.storage.into(), a.resolution)?;
     // read the inputs now, so that a bad file fails here and not in every array task
     if let Some(p) = &a.params {
         Params::from_toml_file(p)?;
@@ -311,6 +335,7 @@ fn slurm(a: &SlurmArgs) -> Result<()> {
             .transpose()?,
         tangential: a.tangential.map(Into::into),
         storage: a.storage.into(),
+        resolution: a.resolution,
         shards: a.shards,
         cpus_per_task: a.cpus_per_task,
         time: a.time.clone(),
@@ -617,6 +642,12 @@ fn info(dir: &Path) -> Result<()> {
         .map(|m| m.len())
         .sum();
     println!("  storage         {}", s.storage);
+    if let Some(r) = s.resolution {
+        println!(
+            "  resolution      codes step by at least {} of the outputs per F_N, {} K of T_max",
+            r.per_normal_force, r.temperature
+        );
+    }
     println!(
         "  outputs         {} ({:.2} MB of arrays)",
         s.outputs
