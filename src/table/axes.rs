@@ -1010,7 +1010,7 @@ mod tests {
         assert_eq!((surface.len(), surface.similarity()), (4_596_480, true));
         assert_eq!(surface.0[FORCE].points, [REFERENCE_FORCE]);
         let whole = Axes::from_toml_file(&tools.join("whole-range-axes.toml")).unwrap();
-        assert_eq!((whole.len(), whole.similarity()), (31_256_064, true));
+        assert_eq!((whole.len(), whole.similarity()), (46_139_904, true));
         assert_eq!((whole.0[RATIO].min(), whole.0[RATIO].max()), (0.2, 5.0));
         let p0 = &whole.0[PRESSURE].points;
         assert_eq!((p0[0], p0[p0.len() - 1]), (0.15e9, 2.5e9));
@@ -1018,13 +1018,20 @@ mod tests {
             let limit = if w[1] <= 0.76e9 { 1.5 + 1e-9 } else { 1.105 };
             assert!(w[1] / w[0] <= limit, "{w:?}");
         }
-        // the same creepage, speed and wetness axes as the running surface's, but for the spin's: the same
-        // count, raw limit and raw scale, that in proportion to the contact's size (the default contact's
-        // 12 mm keeps 0.4 m), so the axis reaches ±2.4, where the largest contacts' raw limit lies; denser
-        // near 0 (the whole range's small contacts, a/b 0.2, reach only |φ̂| ≤ 0.15 at the raw limit)
-        for d in [XI, ETA, SPEED, WET] {
+        // the same η̂, speed and wetness axes as the running surface's; ξ̂ the same but for 31 nodes instead
+        // of 21 (the knee of large dry contacts' creep curves); the spin's: the same count, raw limit and raw
+        // scale, that in proportion to the contact's size (the default contact's 12 mm keeps 0.4 m), so the
+        // axis reaches ±2.4, where the largest contacts' raw limit lies; denser near 0 (the whole range's
+        // small contacts, a/b 0.2, reach only |φ̂| ≤ 0.15 at the raw limit)
+        for d in [ETA, SPEED, WET] {
             assert_eq!(whole.0[d], surface.0[d], "{d}");
         }
+        let (wx, sx) = (&whole.0[XI], &surface.0[XI]);
+        assert_eq!((wx.points.len(), sx.points.len()), (31, 21));
+        assert_eq!(
+            (wx.min(), wx.max(), wx.raw_limit, wx.raw_scale, wx.mirrored),
+            (sx.min(), sx.max(), sx.raw_limit, sx.raw_scale, sx.mirrored)
+        );
         let (w, s) = (&whole.0[PHI], &surface.0[PHI]);
         assert_eq!(
             (w.points.len(), w.raw_limit, w.raw_scale),
