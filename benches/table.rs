@@ -1,8 +1,8 @@
 //! Lookup time of tables (issue 5 target: all outputs ≤ 1 µs; issue 13: ≤ 0.5 µs with the contact
 //! geometry of every step), single thread:
 //! - the bundled default table (fmu/resources/table) at random points and cell midpoints of its ranges;
-//! - a table on the nodes of the whole-range table (tools/whole-range-axes.toml: 31 million points,
-//!   1.5 GB in memory; values of a smooth synthetic function, as the lookup cost does not depend on them):
+//! - a table on the nodes of the whole-range table (tools/whole-range-axes.toml: 46 million points,
+//!   2.2 GB in memory; values of a smooth synthetic function, as the lookup cost does not depend on them):
 //!   one wet point again and again (an MBS contact whose stencil stays cached), a new contact ellipse
 //!   every evaluation around the default one (the FMU bench's random-geometry case: a few cells), and
 //!   random points all over the table (every stencil from memory: the worst case, many contacts far
