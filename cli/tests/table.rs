@@ -751,6 +751,43 @@ fn a_u16_table_holds_the_f32_values_to_half_a_step_in_half_the_bytes() {
     build(&params, &axes, &other, &args, "2");
     let o = merge(&tmp("u16-res-mixed"), &other);
     assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("resolution"));
+    // the merge may store the f32 values of the shards otherwise: f32 as the f32 build, another resolution
+    let remerge = |name: &str, extra: &[&str]| {
+        let out = tmp(name);
+        let mut args = vec![
+            "table",
+            "merge",
+            s(&out),
+            s(&res_shards[0]),
+            s(&res_shards[1]),
+        ];
+        args.extend(extra);
+        let o = wheelrail(&args, None);
+        (out, o)
+    };
+    let (as_f32, o) = remerge("u16-res-as-f32", &["--storage", "f32"]);
+    ok(&o);
+    assert_eq!(array_files(&as_f32), array_files(&f32_dir));
+    assert!(sidecar(&as_f32).get("resolution").is_none());
+    let (finer, o) = remerge("u16-res-finer", &["--resolution", "2e-4,0.1"]);
+    ok(&o);
+    let side = sidecar(&finer);
+    assert_eq!(
+        (
+            side["storage"].as_str(),
+            side["resolution"]["per_normal_force"].as_f64()
+        ),
+        (Some("u16x"), Some(2e-4))
+    );
+    assert!(
+        size(&finer, "force_x_per_normal_force.u16x")
+            > size(&coarse, "force_x_per_normal_force.u16x")
+    );
+    let (_, o) = remerge(
+        "u16-res-bad",
+        &["--storage", "f32", "--resolution", "1e-4,0.1"],
+    );
+    assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("resolution"));
     // refused: a resolution without u16 storage, a malformed one, one recorded in an f32 table
     for bad in [
         &["--resolution", "1e-4,0.1"][..],

@@ -126,6 +126,14 @@ struct MergeArgs {
     /// The shard directories (each of 1..N exactly once).
     #[arg(required = true)]
     shards: Vec<PathBuf>,
+    /// Store the merged table so instead of as the shards record (`table build --storage`; the shards hold
+    /// f32 values, so any storage is exact): e.g. to fit a size budget without computing again.
+    #[arg(long, value_enum)]
+    storage: Option<StorageArg>,
+    /// With --storage or a recorded u16 storage: the resolution instead of the recorded one (`table build
+    /// --resolution`; without it, with --storage: the finest codes).
+    #[arg(long, value_name = "F,T", value_parser = parse_resolution)]
+    resolution: Option<Resolution>,
 }
 
 #[derive(Debug, Args)]
@@ -284,6 +292,13 @@ fn merge(a: &MergeArgs) -> Result<()> {
         .map(|p| Ok((TableFiles::read(p)?, p.as_path())))
         .collect::<Result<Vec<_>>>()?;
     let mut files = table::merge(shards)?;
+    if a.storage.is_some() || a.resolution.is_some() {
+        if let Some(storage) = a.storage {
+            files.sidecar.storage = storage.into();
+        }
+        files.sidecar.resolution = a.resolution;
+        needs_u16(files.sidecar.storage, a.resolution)?;
+    }
     files.write(&a.out)?;
     report_written(&a.out, &files);
     Ok(())
