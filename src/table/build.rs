@@ -485,9 +485,10 @@ fn same_build((s, axes): (&Sidecar, &Axes), (other, other_axes): (&Sidecar, &Axe
 
 /// Whether `dir` already holds what [`build`] computes from `params`, `axes` and `shard`, recorded with
 /// `storage` and `resolution`: a table (or shard) that reads and verifies (sidecar, every array's SHA-256)
-/// and was built with the same parameters, axes, model version, storage, resolution and shard. An interrupted or resubmitted
-/// sharded build so recomputes only what is missing (`wheelrail table build --resume`); a directory the
-/// build was killed while writing fails the checksums (the sidecar is written last) and is not built.
+/// and was built with the same parameters, axes, model version, storage, resolution and shard. An
+/// interrupted or resubmitted sharded build so recomputes only what is missing (`wheelrail table build
+/// --resume`); a directory the build was killed while writing fails the checksums (the sidecar is written
+/// last) and is not built.
 pub fn is_built(
     dir: &Path,
     params: &Params,
