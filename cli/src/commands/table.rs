@@ -68,7 +68,7 @@ struct BuildArgs {
     /// With a u16 storage: the coarsest code steps F,T, F of the outputs per normal force (F/F_N, M_z/(F_N·c),
     /// the fluid load fraction, P_f/(F_N·V)) and T of T_max [K], e.g. 1e-4,0.1: each value within half a
     /// step of the computed one, about half the compressed bytes [default: range/65 535 per array].
-    #[arg(long, value_name = "F,T", value_parser = parse_resolution)]
+    #[arg(long, value_name = "F,T", value_parser = Resolution::parse)]
     resolution: Option<Resolution>,
     /// Keep what --out holds if it is this build (the same parameters, axes, shard, storage, resolution and
     /// model version; every array's checksum verified) and compute nothing; build as without otherwise. A
@@ -100,7 +100,7 @@ struct SlurmArgs {
     #[arg(long, value_enum, default_value = "f32")]
     storage: StorageArg,
     /// Coarsest code steps of the merged table's u16 storage (`table build --resolution`).
-    #[arg(long, value_name = "F,T", value_parser = parse_resolution)]
+    #[arg(long, value_name = "F,T", value_parser = Resolution::parse)]
     resolution: Option<Resolution>,
     /// CPUs per array task, also each build's worker threads (RAYON_NUM_THREADS).
     #[arg(long, value_name = "C", default_value_t = 1)]
@@ -132,7 +132,7 @@ struct MergeArgs {
     storage: Option<StorageArg>,
     /// With --storage or a recorded u16 storage: the resolution instead of the recorded one (`table build
     /// --resolution`; without it, with --storage: the finest codes).
-    #[arg(long, value_name = "F,T", value_parser = parse_resolution)]
+    #[arg(long, value_name = "F,T", value_parser = Resolution::parse)]
     resolution: Option<Resolution>,
 }
 
@@ -242,10 +242,6 @@ fn build(a: &BuildArgs) -> Result<()> {
     Ok(())
 }
 
-fn parse_resolution(text: &str) -> std::result::Result<Resolution, String> {
-    Resolution::parse(text)
-}
-
 /// A resolution is one of u16 codes: refused with f32 storage.
 fn needs_u16(storage: Storage, resolution: Option<Resolution>) -> Result<()> {
     if storage.is_f32() && resolution.is_some() {
@@ -286,6 +282,10 @@ fn report_written(dir: &Path, files: &TableFiles) {
 }
 
 fn merge(a: &MergeArgs) -> Result<()> {
+    // a storage given with the resolution is checked before the shards are read
+    if let Some(storage) = a.storage {
+        needs_u16(storage.into(), a.resolution)?;
+    }
     let shards = a
         .shards
         .iter()
@@ -296,8 +296,9 @@ fn merge(a: &MergeArgs) -> Result<()> {
         if let Some(storage) = a.storage {
             files.sidecar.storage = storage.into();
         }
-        files.sidecar.resolution = a.resolution;
+        // (a resolution alone needs the storage the shards record)
         needs_u16(files.sidecar.storage, a.resolution)?;
+        files.sidecar.resolution = a.resolution;
     }
     files.write(&a.out)?;
     report_written(&a.out, &files);
