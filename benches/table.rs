@@ -78,7 +78,7 @@ fn bench(c: &mut Criterion) {
         })
     });
     drop(table);
-    let table = whole_range_table();
+    let mut table = whole_range_table();
     // wet, all three creepages off their nodes, every linear corner weighted (the stencil in full)
     let wet = OperatingPoint {
         creepage_x: 0.003,
@@ -111,6 +111,21 @@ fn bench(c: &mut Criterion) {
             table.evaluate(black_box(&wet), &contacts[i]).unwrap()
         })
     });
+    // the same with the AVX2 kernel where the CPU runs a faster one (AVX-512)
+    if table.kernel() != Kernel::Avx2Fma && table.set_kernel(Kernel::Avx2Fma).is_ok() {
+        g.bench_function(
+            "whole-range nodes/evaluate_random_geometry_wet_avx2_kernel",
+            |b| {
+                b.iter(|| {
+                    i = (i + 1) % contacts.len();
+                    table.evaluate(black_box(&wet), &contacts[i]).unwrap()
+                })
+            },
+        );
+        table
+            .set_kernel(Kernel::detect())
+            .expect("the detected kernel");
+    }
     let points = sample_points(&table, 1 << 16, 2);
     g.bench_function("whole-range nodes/evaluate_random_points", |b| {
         b.iter(|| {

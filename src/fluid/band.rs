@@ -154,10 +154,13 @@ mod tests {
                 };
                 for (di, dj) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
                     let (a, b) = (i + di, j + dj);
-                    if a >= 0 && b >= 0 && (a as usize) < nx && (b as usize) < ny {
-                        if let Some(m) = index[a as usize + nx * b as usize] {
-                            nb[k].push(m);
-                        }
+                    if a >= 0
+                        && b >= 0
+                        && (a as usize) < nx
+                        && (b as usize) < ny
+                        && let Some(m) = index[a as usize + nx * b as usize]
+                    {
+                        nb[k].push(m);
                     }
                 }
             }

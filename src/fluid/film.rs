@@ -1115,12 +1115,12 @@ impl System<'_> {
             }
             // converged where the Newton correction itself is below the tolerance: the film at u is
             // returned, within that correction of the solution
-            if let Some(c) = self.predicted_change(&u, &s, &r, &step) {
-                if c <= self.pr.tolerance {
-                    change = c;
-                    converged = true;
-                    break;
-                }
+            if let Some(c) = self.predicted_change(&u, &s, &r, &step)
+                && c <= self.pr.tolerance
+            {
+                change = c;
+                converged = true;
+                break;
             }
             let norm = norm2(&step).sqrt();
             let largest = step.iter().fold(0.0, |m: f64, x| m.max(x.abs()));

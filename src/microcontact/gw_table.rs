@@ -114,10 +114,11 @@ impl GwTable {
             static LAST: Cell<Option<(u64, Stencil)>> = const { Cell::new(None) };
         }
         let key = c.to_bits();
-        if let Some((k, s)) = LAST.with(Cell::get) {
-            if k == key && std::ptr::eq(s.table, self) {
-                return Some(s);
-            }
+        if let Some((k, s)) = LAST.with(Cell::get)
+            && k == key
+            && std::ptr::eq(s.table, self)
+        {
+            return Some(s);
         }
         let s = self.new_stencil(c)?;
         LAST.with(|last| last.set(Some((key, s))));

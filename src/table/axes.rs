@@ -510,7 +510,7 @@ fn generate(
             };
             if min < 0.0 {
                 // symmetric about 0: generate the positive half and mirror it exactly
-                if min != -max || count % 2 == 0 {
+                if min != -max || count.is_multiple_of(2) {
                     return Err(bad(
                         dim,
                         "sinh spacing across 0 needs min = -max and an odd count",

@@ -919,16 +919,16 @@ impl TableFiles {
             None if sidecar.format_version == 1 => axes.shape()[..RATIO].to_vec(),
             None => axes.shape().to_vec(),
         };
-        if let Some(r) = sidecar.resolution {
-            if !r.valid() || sidecar.storage.is_f32() {
-                return Err(corrupt(
-                    &side_path,
-                    format!(
-                        "resolution {r} needs a u16 storage (not {}) and steps finite and > 0",
-                        sidecar.storage
-                    ),
-                ));
-            }
+        if let Some(r) = sidecar.resolution
+            && (!r.valid() || sidecar.storage.is_f32())
+        {
+            return Err(corrupt(
+                &side_path,
+                format!(
+                    "resolution {r} needs a u16 storage (not {}) and steps finite and > 0",
+                    sidecar.storage
+                ),
+            ));
         }
         let quantised = sidecar.quantised();
         let compressed = sidecar.compressed();

@@ -167,19 +167,27 @@ impl Offsets {
         c
     }
 
-    /// The corners of non-zero weight only, in the same order, for evaluations without derivatives. A
-    /// corner of weight 0 adds nothing to a value (0·y = 0 for finite y: the sums are bit for bit the same),
-    /// so its rows need not be read: a coordinate on a node of a multilinear axis (a dry contact's wetness 0)
-    /// halves the corners, one on a node of a simplicial axis leaves one corner of the simplex out.
+    /// The corners of a value (no derivatives): those of [`Offsets::of`] without the steps along the
+    /// dimensions whose coordinate lies on the first node of its interval (t = 0), as along a
+    /// single-point axis. The corners one node further along such a dimension have weight 0 and add nothing
+    /// to a value (0·y = 0 for finite y: the sums are bit for bit the same), so their rows need not be read:
+    /// a dry contact's wetness 0 halves the corners, a simplicial coordinate on a node leaves one corner of
+    /// the simplex out. (Corners of weight 0 at ties of simplicial fractions or at t = 1 remain.)
     #[inline(always)]
-    pub fn keep_nonzero(&mut self) {
-        // branch-free: each corner is written to slot n, which advances only past a non-zero weight
-        let mut n = 0;
-        for i in 0..self.n {
-            (self.off[n], self.w[n]) = (self.off[i], self.w[i]);
-            n += usize::from(self.w[i] != 0.0);
+    pub fn of_value(f: &[Fraction; LINEAR_DIMS], strides: &[usize; LINEAR_DIMS]) -> Offsets {
+        let mut on_nodes = *f;
+        for x in &mut on_nodes {
+            if x.t == 0.0 {
+                x.inv_h = 0.0;
+            }
         }
-        self.n = n;
+        Offsets::of(&on_nodes, strides)
+    }
+
+    /// The largest offset: that of the last corner, one node further along every dimension it steps along.
+    #[inline(always)]
+    pub fn farthest(&self) -> usize {
+        self.off[self.n - 1]
     }
 }
 
@@ -900,7 +908,8 @@ mod tests {
     }
 
     /// The offsets and weights of [`Offsets::of`] are those of [`Corners::of`]'s corners, in its order;
-    /// [`Offsets::keep_nonzero`] keeps those of non-zero weight.
+    /// [`Offsets::of_value`] keeps every one of non-zero weight, in that order, and drops those beyond
+    /// coordinates on a node; the last corner is the farthest.
     #[test]
     fn offsets_are_the_corners_in_rows() {
         let mut rng = super::super::verify::SplitMix64::new(7);
@@ -937,8 +946,10 @@ mod tests {
             }
             let c = Corners::of(&f);
             let all = Offsets::of(&f, &strides);
-            let mut o = all;
-            o.keep_nonzero();
+            let o = Offsets::of_value(&f, &strides);
+            for x in [&all, &o] {
+                assert_eq!(x.farthest(), *x.off[..x.n].iter().max().unwrap(), "{k}");
+            }
             assert_eq!(all.n, c.n);
             let want = |i: usize| -> (usize, u64) {
                 let off = (0..LINEAR_DIMS)
@@ -949,13 +960,19 @@ mod tests {
             for i in 0..c.n {
                 assert_eq!((all.off[i], all.w[i].to_bits()), want(i), "{k} {i}");
             }
-            let kept: Vec<usize> = (0..c.n).filter(|i| c.w[*i] != 0.0).collect();
-            assert_eq!(o.n, kept.len(), "{k}");
+            // the corners of non-zero weight, in order; of weight 0 only those beyond no node
+            let kept: Vec<(usize, u64)> = (0..c.n).filter(|i| c.w[*i] != 0.0).map(want).collect();
+            let nonzero: Vec<(usize, u64)> = (0..o.n)
+                .filter(|j| o.w[*j] != 0.0)
+                .map(|j| (o.off[j], o.w[j].to_bits()))
+                .collect();
+            assert_eq!(nonzero, kept, "{k}");
+            let beyond_nodes = (0..c.n).filter(|i| {
+                (0..LINEAR_DIMS).any(|d| f[d].inv_h > 0.0 && f[d].t == 0.0 && c.step[*i][d] == 1)
+            });
+            assert_eq!(o.n, c.n - beyond_nodes.count(), "{k}");
             if f.iter().all(|x| x.t > 0.0 && x.t < 1.0) && k % 7 != 3 {
                 assert_eq!(o.n, c.n, "{k}: no corner of weight 0 inside the cell");
-            }
-            for (j, &i) in kept.iter().enumerate() {
-                assert_eq!((o.off[j], o.w[j].to_bits()), want(i), "{k} {i}");
             }
             let total: f64 = o.w[..o.n].iter().sum();
             assert!((total - 1.0).abs() < 1e-12, "{k}: weights sum to {total}");
@@ -966,8 +983,7 @@ mod tests {
             t: if d == 2 { 0.0 } else { 0.1 + 0.2 * d as f64 },
             inv_h: 1.0,
         });
-        let mut o = Offsets::of(&f, &strides);
-        o.keep_nonzero();
+        let o = Offsets::of_value(&f, &strides);
         assert_eq!((Corners::of(&f).n, o.n), (16, 8));
     }
 

@@ -38,7 +38,7 @@ use crate::error::{Error, Result};
 use crate::params::{OperatingPoint, Params};
 use crate::solver::{GlobalResults, Solution, SolverReport};
 use axes::{ETA, FORCE, LINEAR_DIMS, PHI, PRESSURE, RATIO, SPEED, WET, XI};
-use interp::{AxisInterp, CORNERS, Corners, CubicStencil, Fraction, Offsets};
+use interp::{AxisInterp, Corners, CubicStencil, Fraction, Offsets};
 use rise::RiseVariable;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -179,22 +179,32 @@ struct Core {
     resolved: bool,
 }
 
-/// The instruction set of the lookup kernel: one source compiled twice, chosen once per table by the CPU it
-/// runs on. The vector kernel also fuses the corner sums' multiply-adds (one rounding instead of two), so
-/// its results differ from the portable kernel's in the last bits only. (An AVX-512 build was 11 % faster
-/// still on AMD Zen 4 but uses 512-bit FMAs, which lower the clock of the whole core on several Intel server
-/// generations, slowing the host simulation: left out.)
+/// The instruction set of the lookup kernel: one source compiled three times, chosen once per table by the
+/// CPU it runs on. The vector kernels also fuse the corner sums' multiply-adds (one rounding instead of
+/// two), so their results differ from the portable kernel's in the last bits only; the AVX-512 kernel's
+/// are the AVX2 kernel's bit for bit (lane for lane the same operations in the same order).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kernel {
     /// Baseline instructions of the target (SSE2 on x86_64).
     Portable,
     /// AVX2 and FMA (x86_64, every x86_64 CPU since about 2015).
     Avx2Fma,
+    /// AVX-512F besides AVX2 and FMA: the corner sums of a ξ̂ node's four η̂ window points at once, 8-wide
+    /// ([`window_sums`]). [`Kernel::detect`] chooses it on AMD CPUs only: their cores with AVX-512 (Zen 4
+    /// and later) run 512-bit instructions at the full clock, while several Intel server generations
+    /// lower the clock of the whole core for 512-bit fused multiply-adds, which would slow the host
+    /// simulation running on that core ([`Table::set_kernel`] chooses it anywhere).
+    Avx512,
 }
+
+/// The kernels as the const parameter of the lookup's functions (`Table::eval`).
+const PORTABLE: u8 = 0;
+const AVX2: u8 = 1;
+const AVX512: u8 = 2;
 
 impl Kernel {
     /// Every kernel, slowest first.
-    pub const ALL: [Kernel; 2] = [Kernel::Portable, Kernel::Avx2Fma];
+    pub const ALL: [Kernel; 3] = [Kernel::Portable, Kernel::Avx2Fma, Kernel::Avx512];
 
     /// Whether this CPU runs the kernel.
     pub fn supported(self) -> bool {
@@ -202,19 +212,33 @@ impl Kernel {
             Kernel::Portable => true,
             #[cfg(target_arch = "x86_64")]
             Kernel::Avx2Fma => is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma"),
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx512 => Kernel::Avx2Fma.supported() && is_x86_feature_detected!("avx512f"),
             #[cfg(not(target_arch = "x86_64"))]
             _ => false,
         }
     }
 
-    /// The fastest kernel this CPU runs.
+    /// The fastest kernel this CPU runs, AVX-512 on AMD CPUs only ([`Kernel::Avx512`]).
     pub fn detect() -> Kernel {
         Kernel::ALL
             .into_iter()
             .rev()
-            .find(|k| k.supported())
+            .find(|k| k.supported() && (*k != Kernel::Avx512 || amd()))
             .unwrap_or(Kernel::Portable)
     }
+}
+
+/// Whether the CPU is AMD's (CPUID vendor string "AuthenticAMD").
+fn amd() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let id = std::arch::x86_64::__cpuid(0);
+        let vendor = [id.ebx, id.edx, id.ecx].map(u32::to_le_bytes);
+        vendor.as_flattened() == b"AuthenticAMD"
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    false
 }
 
 /// A loaded table, read-only.
@@ -665,13 +689,15 @@ impl Table {
         geometry: [f64; 2],
     ) -> Result<(TableOutput, Jacobian)> {
         match self.kernel {
-            Kernel::Portable => self.eval::<JAC, false>(point, e, geometry),
+            Kernel::Portable => self.eval::<JAC, PORTABLE>(point, e, geometry),
             // SAFETY: a table holds a vector kernel only if the CPU has its instructions
             // (`Kernel::supported`, checked by `detect` and `set_kernel`)
             #[cfg(target_arch = "x86_64")]
             Kernel::Avx2Fma => unsafe { self.eval_avx2::<JAC>(point, e, geometry) },
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx512 => unsafe { self.eval_avx512::<JAC>(point, e, geometry) },
             #[cfg(not(target_arch = "x86_64"))]
-            _ => self.eval::<JAC, false>(point, e, geometry),
+            _ => self.eval::<JAC, PORTABLE>(point, e, geometry),
         }
     }
 
@@ -683,13 +709,24 @@ impl Table {
         e: &Ellipse,
         geometry: [f64; 2],
     ) -> Result<(TableOutput, Jacobian)> {
-        self.eval::<JAC, true>(point, e, geometry)
+        self.eval::<JAC, AVX2>(point, e, geometry)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx2,fma")]
+    fn eval_avx512<const JAC: bool>(
+        &self,
+        point: &OperatingPoint,
+        e: &Ellipse,
+        geometry: [f64; 2],
+    ) -> Result<(TableOutput, Jacobian)> {
+        self.eval::<JAC, AVX512>(point, e, geometry)
     }
 
     /// The evaluation of `point` with contact `e`, whose geometry coordinates are `geometry`
     /// ([`Coordinates::geometry`]).
     #[inline(always)]
-    fn eval<const JAC: bool, const FMA: bool>(
+    fn eval<const JAC: bool, const K: u8>(
         &self,
         point: &OperatingPoint,
         e: &Ellipse,
@@ -710,7 +747,7 @@ impl Table {
         for d in 0..DIMS {
             (q[d], inside[d]) = self.interp[d].clamp(q[d]);
         }
-        let mut core = self.core::<JAC, FMA>(&q);
+        let mut core = self.core::<JAC, K>(&q);
         // the heat is interpolated per unit of the direction factor Λ (`heating`): times the query's own
         let lambda = at.heating;
         let heat = core.v[3];
@@ -829,7 +866,7 @@ impl Table {
     /// model) the spline takes the one-sided slope at the shared node: the window node beyond is replaced by
     /// the extrapolation of the cell's secant ([`interp::CubicStencil::beyond`]; docs/model.md §12.3).
     #[inline(always)]
-    fn core<const JAC: bool, const FMA: bool>(&self, q: &[f64; DIMS]) -> Core {
+    fn core<const JAC: bool, const K: u8>(&self, q: &[f64; DIMS]) -> Core {
         const L: usize = LINEAR_DIMS;
         let cx = self.interp[XI].cubic(q[XI]);
         let cy = self.interp[ETA].cubic(q[ETA]);
@@ -869,17 +906,16 @@ impl Table {
         let check_converged = flags & NEAR_UNCONVERGED != 0;
         // the linear corners' row offsets from the creepage node and weights (with the Jacobian, also the
         // weights' derivatives)
-        // (a value reads only the corners of non-zero weight; the Jacobian needs every corner, whose
-        // weights' derivatives need not vanish with the weight)
-        let mut stencil = Offsets::of(&fractions, &linear_strides);
-        let dl = if JAC {
-            Corners::of(&fractions).dw
+        // (a value skips the corners beyond coordinates on a node, of weight 0; the Jacobian needs every
+        // corner, whose weights' derivatives need not vanish with the weight)
+        let stencil = if JAC {
+            Offsets::of(&fractions, &linear_strides)
         } else {
-            stencil.keep_nonzero();
-            [[0.0; CORNERS]; L]
+            Offsets::of_value(&fractions, &linear_strides)
         };
+        let dl = JAC.then(|| Corners::of(&fractions).dw);
         let (off, wl) = (&stencil.off[..stencil.n], &stencil.w[..stencil.n]);
-        let max_off = off.iter().copied().max().unwrap_or(0);
+        let max_off = stencil.farthest();
         let rows = &self.rows[..];
         // the lower φ̂ node of the interval at a window point: k0, or on a ghost η̂ node (φ̂ reversed) the
         // mirror image of k0 + 1, n_φ − 2 − k0, so that the φ̂ ends run backwards
@@ -890,8 +926,15 @@ impl Table {
         let hermite = [ends, [ends[1], ends[0]]];
         // stages 0 and 1: values [j][i·OUTPUTS + o] after φ (the layout of the η stage's lanes), with
         // derivatives [i][j][o][F_N, V, w, a/b, p_ref, φ]
+        // (the derivatives only with the Jacobian: a value does not clear their 4.6 kB)
         let mut c1 = [[0.0; 4 * OUTPUTS]; 4];
-        let mut t1 = [[[[0.0; L + 1]; OUTPUTS]; 4]; 4];
+        let mut t1_rows;
+        let t1: &mut [[[[f64; L + 1]; OUTPUTS]; 4]] = if JAC {
+            t1_rows = [[[[0.0; L + 1]; OUTPUTS]; 4]; 4];
+            &mut t1_rows
+        } else {
+            &mut []
+        };
         let mut converged = true;
         // prefetch the corner rows of ξ window node i + 1 (all η, both φ ends) while node i is computed: on a
         // table far larger than the caches the loads then find their lines on the way
@@ -924,18 +967,34 @@ impl Table {
             }
             let gi = cx.start + i as isize;
             let (ii, fx) = (gi.unsigned_abs(), gi < 0);
-            for (j, c1j) in c1.iter_mut().enumerate() {
+            // the η̂ window points of this ξ̂ node: first rows and Hermite weights
+            let mut bases = [0; 4];
+            let mut hs = [Hermite {
+                ends: &hermite[0],
+                signs: &SIGN_LANES[0],
+            }; 4];
+            for j in 0..4 {
                 let gj = cy.start + j as isize;
                 let (jj, fy) = (gj.unsigned_abs(), gj < 0);
-                let base = ii * st[XI] + jj * st[ETA] + lower(fy);
-                let mut pair = [0.0; 2 * ROW];
-                let h = Hermite {
+                bases[j] = ii * st[XI] + jj * st[ETA] + lower(fy);
+                hs[j] = Hermite {
                     ends: &hermite[usize::from(fy)],
                     signs: &SIGN_LANES[2 * usize::from(fx) + usize::from(fy)],
                 };
-                let v = corner_sum::<FMA, JAC>(rows, base, off, max_off, wl, h, &mut pair);
-                c1j[i * OUTPUTS..(i + 1) * OUTPUTS].copy_from_slice(&v);
+            }
+            if !JAC {
+                let v = window_sums::<K>(rows, &bases, off, max_off, wl, &hs);
+                for (c1j, v) in c1.iter_mut().zip(v) {
+                    c1j[i * OUTPUTS..(i + 1) * OUTPUTS].copy_from_slice(&v);
+                }
+            }
+            for (j, c1j) in c1.iter_mut().enumerate() {
+                let fy = cy.start + (j as isize) < 0;
+                let (base, h) = (bases[j], hs[j]);
                 if JAC {
+                    let mut pair = [0.0; 2 * ROW];
+                    let v = corner_sum::<K, true>(rows, base, off, max_off, wl, h, &mut pair);
+                    c1j[i * OUTPUTS..(i + 1) * OUTPUTS].copy_from_slice(&v);
                     let (sv, sd) = signs(fx, fy);
                     // the corner sums at the lower and the upper φ̂ node in memory; a0 at k0, a1 at k0 + 1
                     let (lo, hi) = pair.split_at(ROW);
@@ -944,8 +1003,8 @@ impl Table {
                     // instead of the weights, in memory order as `pair` (by the same kernel; its
                     // Hermite stage is not needed here); the rows at k0 and k0 + 1 start at m0, m1
                     let mut dpair = [[0.0; 2 * ROW]; L];
-                    for (dp, dlk) in dpair.iter_mut().zip(&dl) {
-                        corner_sum::<FMA, true>(rows, base, off, max_off, &dlk[..off.len()], h, dp);
+                    for (dp, dlk) in dpair.iter_mut().zip(dl.iter().flatten()) {
+                        corner_sum::<K, true>(rows, base, off, max_off, &dlk[..off.len()], h, dp);
                     }
                     let (m0, m1) = if fy { (ROW, 0) } else { (0, ROW) };
                     for o in 0..OUTPUTS {
@@ -974,13 +1033,7 @@ impl Table {
         // (the cell's flags say which neighbours are unresolved: [`beside_unresolved`]; out of line, so that
         // the common path compiles as without)
         if flags & BESIDE_ETA != 0 {
-            one_sided(
-                &cy,
-                BESIDE_UNRESOLVED[1],
-                flags,
-                &mut c1,
-                if JAC { &mut t1[..] } else { &mut [] },
-            );
+            one_sided(&cy, BESIDE_UNRESOLVED[1], flags, &mut c1, t1);
         }
         // stage 2: along η, all 4·OUTPUTS fibres at once; derivatives (F_N, V, w, a/b, p_ref, φ, η)
         let mut c2 = [[0.0; OUTPUTS]; 4];
@@ -1155,7 +1208,7 @@ fn hermite_of(pair: &[f64; 2 * ROW], h: Hermite) -> [f64; OUTPUTS] {
 /// bits only). `max_off` is the largest of `off` (the caller's invariant): the rows are checked to lie in
 /// `rows` once per call; rows out of bounds give NaN, never a read outside `rows`.
 #[inline(always)]
-fn corner_sum<const FMA: bool, const PAIR: bool>(
+fn corner_sum<const K: u8, const PAIR: bool>(
     rows: &[Row],
     base: usize,
     off: &[usize],
@@ -1171,7 +1224,7 @@ fn corner_sum<const FMA: bool, const PAIR: bool>(
         return [f64::NAN; OUTPUTS];
     }
     #[cfg(target_arch = "x86_64")]
-    if FMA {
+    if K != PORTABLE {
         // SAFETY: FMA kernels run only on CPUs with AVX2 and FMA (`Kernel::supported`); every pair of rows
         // base + off[c], base + off[c] + 1 lies in `rows` (checked above)
         return unsafe { corner_sum_avx2::<PAIR>(rows, base, &off[..n], w, h, pair) };
@@ -1188,8 +1241,93 @@ fn corner_sum<const FMA: bool, const PAIR: bool>(
     hermite_of(pair, h)
 }
 
+/// [`corner_sum`] at the four η̂ window points of a ξ̂ node, whose first rows are `bases` (the same linear
+/// corners `off`, weights `w` and `max_off` for all) and Hermite weights `hs`. The AVX-512 kernel sums the
+/// four at once ([`window_sums_avx512`]), the others one after the other. Measured (criterion, AMD Zen 5,
+/// the whole-range table's nodes, a wet lookup with a new ellipse every time): AVX2 one point at a time
+/// 544–552 ns, AVX-512 four at once 485–496 ns; one point at a time with AVX-512 was no faster than AVX2 —
+/// a point's twelve corners are a chain of fused multiply-adds into the same sums, whose latency the
+/// four points' independent sums hide; and two points at once with AVX2 (their twelve sums in the sixteen
+/// registers) was slower (485–496 → 521–535 ns per library evaluation on the fixture table).
+#[inline(always)]
+fn window_sums<const K: u8>(
+    rows: &[Row],
+    bases: &[usize; 4],
+    off: &[usize],
+    max_off: usize,
+    w: &[f64],
+    hs: &[Hermite; 4],
+) -> [[f64; OUTPUTS]; 4] {
+    #[cfg(target_arch = "x86_64")]
+    if K == AVX512 && bases.iter().all(|b| b + max_off + 2 <= rows.len()) {
+        let n = off.len().min(w.len());
+        // SAFETY: AVX-512 kernels run only on CPUs with AVX-512F (`Kernel::supported`); every pair of
+        // rows base + off[c], base + off[c] + 1 lies in `rows` (checked above)
+        return unsafe { window_sums_avx512(rows, bases, &off[..n], w, hs) };
+    }
+    let mut out = [[0.0; OUTPUTS]; 4];
+    let mut pair = [0.0; 2 * ROW];
+    for j in 0..4 {
+        out[j] = corner_sum::<K, false>(rows, bases[j], off, max_off, w, hs[j], &mut pair);
+    }
+    out
+}
+
+/// [`window_sums`] with AVX-512F: per corner, its weight times each point's pair of rows (three 8-wide
+/// f32 loads, conversions to f64 and fused multiply-adds per point: twelve independent sums); then the
+/// Hermite stage per point ([`hermite_avx2`]). Lane for lane the operations of [`corner_sum_avx2`] in the
+/// same order: the values are that kernel's bit for bit.
+///
+/// # Safety
+/// Every pair of rows `bases[j] + off[c]`, `bases[j] + off[c] + 1` must lie in `rows`, and `w` hold at
+/// least `off.len()` weights; the CPU must have AVX-512F.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2,fma")]
+unsafe fn window_sums_avx512(
+    rows: &[Row],
+    bases: &[usize; 4],
+    off: &[usize],
+    w: &[f64],
+    hs: &[Hermite; 4],
+) -> [[f64; OUTPUTS]; 4] {
+    use std::arch::x86_64::{
+        _mm256_loadu_ps, _mm512_castpd512_pd256, _mm512_cvtps_pd, _mm512_extractf64x4_pd,
+        _mm512_fmadd_pd, _mm512_set1_pd, _mm512_setzero_pd,
+    };
+    const { assert!(ROW == 12) };
+    let mut v = [[_mm512_setzero_pd(); 3]; 4];
+    let p = rows.as_ptr();
+    for (c, o) in off.iter().enumerate() {
+        // SAFETY: the caller guarantees c < w.len()
+        let wc = _mm512_set1_pd(unsafe { *w.get_unchecked(c) });
+        for (vj, b) in v.iter_mut().zip(bases) {
+            // SAFETY: the caller guarantees that the rows lie in `rows`
+            let r = unsafe { p.add(b + o).cast::<f32>() };
+            for (k, x) in vj.iter_mut().enumerate() {
+                // SAFETY: values 8k .. 8k + 8 of the two rows
+                let row = unsafe { _mm512_cvtps_pd(_mm256_loadu_ps(r.add(8 * k))) };
+                *x = _mm512_fmadd_pd(wc, row, *x);
+            }
+        }
+    }
+    let mut out = [[0.0; OUTPUTS]; 4];
+    let mut pair = [0.0; 2 * ROW];
+    for j in 0..4 {
+        let quads = [
+            _mm512_castpd512_pd256(v[j][0]),
+            _mm512_extractf64x4_pd::<1>(v[j][0]),
+            _mm512_castpd512_pd256(v[j][1]),
+            _mm512_extractf64x4_pd::<1>(v[j][1]),
+            _mm512_castpd512_pd256(v[j][2]),
+            _mm512_extractf64x4_pd::<1>(v[j][2]),
+        ];
+        out[j] = hermite_avx2::<false>(quads, hs[j], &mut pair);
+    }
+    out
+}
+
 /// [`corner_sum`] with AVX2 and FMA: a pair of rows as six aligned 4-wide f32 loads, conversions to f64
-/// and fused multiply-adds, the Hermite stage on the six sums in registers.
+/// and fused multiply-adds, then the Hermite stage ([`hermite_avx2`]).
 ///
 /// # Safety
 /// Every pair of rows `base + off[c]`, `base + off[c] + 1` must lie in `rows`, and `w` hold at least
@@ -1205,9 +1343,7 @@ unsafe fn corner_sum_avx2<const PAIR: bool>(
     pair: &mut [f64; 2 * ROW],
 ) -> [f64; OUTPUTS] {
     use std::arch::x86_64::{
-        _mm_add_pd, _mm_load_ps, _mm_storeu_pd, _mm256_castpd256_pd128, _mm256_cvtps_pd,
-        _mm256_extractf128_pd, _mm256_fmadd_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd,
-        _mm256_setzero_pd, _mm256_storeu_pd,
+        _mm_load_ps, _mm256_cvtps_pd, _mm256_fmadd_pd, _mm256_set1_pd, _mm256_setzero_pd,
     };
     const { assert!(ROW == 12) };
     let mut v = [_mm256_setzero_pd(); 6];
@@ -1226,6 +1362,24 @@ unsafe fn corner_sum_avx2<const PAIR: bool>(
             *x = _mm256_fmadd_pd(wc, row, *x);
         }
     }
+    hermite_avx2::<PAIR>(v, h, pair)
+}
+
+/// The Hermite stage on the six 4-wide corner sums `v` of a pair of rows, in registers: per output, the
+/// value and slope lanes of both rows times their Hermite weights and signs ([`Hermite`]); the sums are
+/// left in `pair` if `PAIR`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+fn hermite_avx2<const PAIR: bool>(
+    v: [std::arch::x86_64::__m256d; 6],
+    h: Hermite,
+    pair: &mut [f64; 2 * ROW],
+) -> [f64; OUTPUTS] {
+    use std::arch::x86_64::{
+        _mm_add_pd, _mm_storeu_pd, _mm256_castpd256_pd128, _mm256_extractf128_pd, _mm256_fmadd_pd,
+        _mm256_loadu_pd, _mm256_mul_pd, _mm256_storeu_pd,
+    };
     if PAIR {
         for (k, x) in v.iter().enumerate() {
             // SAFETY: `pair` holds 24 values: the store writes 4k..4k + 4
@@ -2060,6 +2214,72 @@ mod tests {
         assert!(compared >= 1);
     }
 
+    /// The AVX-512 kernel's values and Jacobians are the AVX2 kernel's bit for bit (where this CPU runs
+    /// both): on a table with 16 linear corners and one by similarity (12), at random points (ghost window
+    /// points of both mirrors among them), dry ones (the wetness on its first node: half the corners), on
+    /// the last speed node, and beside cells across which T_max jumps (one-sided slopes).
+    #[test]
+    fn the_avx512_kernel_is_the_avx2_kernel_bit_for_bit() {
+        if !Kernel::Avx512.supported() {
+            eprintln!("this CPU has no AVX-512: nothing to compare");
+            return;
+        }
+        let params = coarse_params();
+        let mut axes = tiny_axes();
+        axes.0[XI].points = vec![0.0, 1.0, 2.0, 4.0, 10.0];
+        let jump = |c: &[f64; DIMS]| {
+            let mut o = symmetric_saturating(c);
+            o[3] += if c[XI].abs() >= 10.0 { 800.0 } else { 0.0 };
+            o
+        };
+        let tables = [
+            synthetic(&tiny_axes(), &params, &symmetric_saturating),
+            synthetic(&similar(tiny_axes()), &params, &symmetric_saturating),
+            synthetic(&axes, &params, &jump),
+        ];
+        let mut rng = verify::SplitMix64::new(31);
+        let mut kinds = [0; 3];
+        for mut t in tables {
+            let speeds = t.axes().0[SPEED].points.clone();
+            let dry = t.axes().0[WET].points[0];
+            for n in 0..400 {
+                let mut c = random_coordinates(&mut rng);
+                match n % 4 {
+                    1 => c[WET] = dry,
+                    2 => c[SPEED] = speeds[speeds.len() - 1],
+                    _ => {}
+                }
+                let (p, e) = at(&t, &c, Ellipse::HERTZ);
+                let mut results = Vec::new();
+                for kernel in [Kernel::Avx2Fma, Kernel::Avx512] {
+                    t.set_kernel(kernel).unwrap();
+                    let o = t.evaluate(&p, &e).unwrap();
+                    let (oj, j) = t.evaluate_with_jacobian(&p, &e).unwrap();
+                    let bits = |o: &TableOutput| {
+                        [
+                            o.force_x,
+                            o.force_y,
+                            o.spin_moment,
+                            o.traction_coefficient,
+                            o.max_temperature,
+                            o.fluid_load_fraction,
+                            o.frictional_power.unwrap_or(f64::NAN),
+                        ]
+                        .map(f64::to_bits)
+                    };
+                    let flags = (o.in_range, o.converged, o.resolved);
+                    results.push((bits(&o), bits(&oj), flags, j.map(|r| r.map(f64::to_bits))));
+                }
+                assert_eq!(results[0], results[1], "{c:?}");
+                kinds[0] += usize::from(c[XI] < 0.0 && c[ETA] < 0.0);
+                kinds[1] += usize::from(!results[0].2.2);
+                kinds[2] += usize::from(results[0].0[0] != 0);
+            }
+        }
+        // both mirrors, unresolved cells and non-zero values among the points
+        assert!(kinds.iter().all(|k| *k > 10), "{kinds:?}");
+    }
+
     #[test]
     fn jacobian_is_the_derivative_of_the_interpolant() {
         let params = coarse_params();
@@ -2209,7 +2429,7 @@ mod tests {
                 });
                 cx.eval(&along_eta).v
             });
-            let got = t.core::<false, false>(&q).v;
+            let got = t.core::<false, PORTABLE>(&q).v;
             for o in 0..OUTPUTS {
                 let scale = [1.0, 1.0, 0.1, 300.0, 0.3, 0.05][o];
                 assert!(

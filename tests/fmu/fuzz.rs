@@ -828,14 +828,15 @@ impl Exec {
                 s => Err(format!("a null component gave status {s}, not fmi2Error")),
             };
         };
-        if let Some(legal) = legal_states(call) {
-            if legal & x.states == 0 && status < ERROR {
-                return Err(format!(
-                    "status {status} for a call that is illegal in every state the instance may be in \
+        if let Some(legal) = legal_states(call)
+            && legal & x.states == 0
+            && status < ERROR
+        {
+            return Err(format!(
+                "status {status} for a call that is illegal in every state the instance may be in \
                      ({:#b})",
-                    x.states
-                ));
-            }
+                x.states
+            ));
         }
         let new: Vec<Message> = x.log.lock().unwrap()[logged_before..].to_vec();
         self.outcome = format!(

@@ -391,16 +391,22 @@ impl WheelRailModel {
         let (setup, mut status) =
             Setup::current(&mut self.setup, self.resources.as_deref(), values, log)?;
         let warm_start = values.boolean(WARM_START);
-        let mut warm = match (warm_start, start) {
-            (false, _) => None,
-            (true, Start::Advance) => self.warm.take(),
-            (true, _) => self.warm.clone(),
+        // advancing, the solve starts from and leaves its state in the instance's warm start itself (not a
+        // copy: a table step moves no solver state); otherwise from a copy, or from nothing
+        let mut copy = None;
+        let warm = match (warm_start, start) {
+            (false, _) => &mut copy,
+            (true, Start::Advance) => &mut self.warm,
+            (true, _) => {
+                copy = self.warm.clone();
+                &mut copy
+            }
         };
         let evaluator = match tolerance {
             Some(_) => &setup.exact,
             None => &setup.evaluator,
         };
-        let result = evaluator.evaluate_at(&input(values), &geometry(values), tolerance, &mut warm);
+        let result = evaluator.evaluate_at(&input(values), &geometry(values), tolerance, warm);
         let exact = matches!(
             &result,
             Ok(Evaluation {
@@ -409,19 +415,15 @@ impl WheelRailModel {
             })
         );
         match start {
-            Start::Advance if warm_start => {
-                // an exact solve replaced the warm start the derivative base and the trial were
-                // solved from
-                if exact {
-                    self.derivative_base = None;
-                    self.trial = None;
-                }
-                self.warm = warm;
+            // an exact solve replaced the warm start the derivative base and the trial were solved from
+            Start::Advance if warm_start && exact => {
+                self.derivative_base = None;
+                self.trial = None;
             }
             Start::Trial if warm_start => {
                 self.trial = result
                     .is_ok()
-                    .then(|| (values.clone(), warm.filter(|_| exact)));
+                    .then(|| (values.clone(), copy.filter(|_| exact)));
             }
             _ => {}
         }
