@@ -6,7 +6,7 @@
 //!   one wet point again and again (an MBS contact whose stencil stays cached), a new contact ellipse
 //!   every evaluation around the default one (the FMU bench's random-geometry case: a few cells), and
 //!   random points all over the table (every stencil from memory: the worst case, many contacts far
-//!   apart).
+//!   apart); the new-ellipse case also with the AVX2 kernel where the CPU runs the AVX-512 one.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;

@@ -13,7 +13,7 @@
 //!   [`rise`] (the rise over the root of the relative yield stress), and G and P_f/(F_N·V) per unit of
 //!   FASTSIM's direction factor Λ of [`heating`] (which has kinks at η = 0 and φ = 0).
 //! - [`Table::evaluate`] of an operating point and its contact ellipse ([`Ellipse`]): well under a
-//!   microsecond (AVX2 + FMA kernel, [`Kernel`]), no allocation; [`Table::evaluate_with_jacobian`] adds the
+//!   microsecond (AVX-512 or AVX2 + FMA kernels, [`Kernel`]), no allocation; [`Table::evaluate_with_jacobian`] adds the
 //!   exact derivatives of the interpolant for FMU directional derivatives.
 //! - [`Table::load_shared`]: one copy per file and process, shared read-only by all FMU instances.
 
