@@ -53,15 +53,10 @@ fn eval(e: &Evaluator, p: &OperatingPoint) -> Evaluation {
     e.evaluate(p, None, &mut None).unwrap()
 }
 
+/// The six outputs an MBS contact gives (without the frictional power).
 fn values(o: &TableOutput) -> [f64; 6] {
-    [
-        o.force_x,
-        o.force_y,
-        o.spin_moment,
-        o.traction_coefficient,
-        o.max_temperature,
-        o.fluid_load_fraction,
-    ]
+    let v = o.values();
+    std::array::from_fn(|k| v[k])
 }
 
 fn notice_list(e: &Evaluation) -> Vec<Notice> {

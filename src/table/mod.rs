@@ -78,6 +78,21 @@ pub struct TableOutput {
 }
 
 impl TableOutput {
+    /// The outputs as numbers, in the order of the CLI's and the FMU's columns: F_x [N], F_y [N], M_z [N·m],
+    /// traction coefficient, T_max [K], fluid load fraction, frictional power [W] (NaN where the table
+    /// does not store it).
+    pub fn values(&self) -> [f64; 7] {
+        [
+            self.force_x,
+            self.force_y,
+            self.spin_moment,
+            self.traction_coefficient,
+            self.max_temperature,
+            self.fluid_load_fraction,
+            self.frictional_power.unwrap_or(f64::NAN),
+        ]
+    }
+
     /// The outputs of an exact solution in the table's form (`in_range` true, `converged` from its report).
     /// A solution without a tabulated quantity (of a friction law that does not model it: only the
     /// Tomberger law models them all) is an error naming it.
@@ -2255,18 +2270,7 @@ mod tests {
                     t.set_kernel(kernel).unwrap();
                     let o = t.evaluate(&p, &e).unwrap();
                     let (oj, j) = t.evaluate_with_jacobian(&p, &e).unwrap();
-                    let bits = |o: &TableOutput| {
-                        [
-                            o.force_x,
-                            o.force_y,
-                            o.spin_moment,
-                            o.traction_coefficient,
-                            o.max_temperature,
-                            o.fluid_load_fraction,
-                            o.frictional_power.unwrap_or(f64::NAN),
-                        ]
-                        .map(f64::to_bits)
-                    };
+                    let bits = |o: &TableOutput| o.values().map(f64::to_bits);
                     let flags = (o.in_range, o.converged, o.resolved);
                     results.push((bits(&o), bits(&oj), flags, j.map(|r| r.map(f64::to_bits))));
                 }

@@ -442,17 +442,7 @@ fn run_verify(a: &VerifyArgs) -> Result<()> {
 /// `table verify --csv`: one row per compared sample (SI units; a, b the contact's semi-axes [m], p_ref the
 /// reference pressure [Pa]).
 fn write_samples(path: &Path, compared: &[Option<verify::Compared>]) -> Result<()> {
-    let outputs = |o: &TableOutput| {
-        [
-            o.force_x,
-            o.force_y,
-            o.spin_moment,
-            o.traction_coefficient,
-            o.max_temperature,
-            o.fluid_load_fraction,
-            o.frictional_power.unwrap_or(f64::NAN),
-        ]
-    };
+    let outputs = TableOutput::values;
     let names = [
         "force_x",
         "force_y",
