@@ -2,7 +2,8 @@
 //! geometry of every step), single thread:
 //! - the bundled default table (fmu/resources/table) at random points and cell midpoints of its ranges;
 //! - a table on the nodes of the whole-range table (tools/whole-range-axes.toml: 46 million points,
-//!   2.2 GB in memory; values of a smooth synthetic function, as the lookup cost does not depend on them):
+//!   2.2 GB in memory; values of a smooth synthetic function, `table::build::timing_files`, as the lookup
+//!   cost does not depend on them):
 //!   one wet point again and again (an MBS contact whose stencil stays cached), a new contact ellipse
 //!   every evaluation around the default one (the FMU bench's random-geometry case: a few cells), and
 //!   random points all over the table (every stencil from memory: the worst case, many contacts far
@@ -13,26 +14,17 @@ use std::hint::black_box;
 use std::path::Path;
 use wheelrail::OperatingPoint;
 use wheelrail::Params;
+use wheelrail::table::build::timing_files;
 use wheelrail::table::coords::{Ellipse, semi_axes};
 use wheelrail::table::verify::{SplitMix64, sample_points};
-use wheelrail::table::{Axes, Kernel, Table, tabulate};
+use wheelrail::table::{Axes, Kernel, Table};
 
-/// A table on the nodes of the whole-range table (by similarity: 12 linear corners).
+/// A table on the nodes of the whole-range table (by similarity: 12 linear corners), of synthetic values
+/// ([`wheelrail::table::build::timing_files`]).
 fn whole_range_table() -> Table {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/whole-range-axes.toml");
     let axes = Axes::from_toml_file(&file).expect("the whole-range axes");
-    let files = tabulate(&Params::default(), &axes, &|q| {
-        let sat = |x: f64| (x / 0.4).tanh();
-        let lin = 1.0 - 0.001 * q[4] - 0.3 * q[5];
-        [
-            -0.4 * lin * sat(q[0]),
-            -0.4 * lin * (sat(q[1]) + 0.1 * sat(q[2])),
-            0.01 * sat(q[2]),
-            300.0 + 100.0 * q[0].abs().sqrt(),
-            0.5 * q[5],
-            0.01 * sat(q[0]).abs(),
-        ]
-    });
+    let files = timing_files(&Params::default(), &axes).expect("the timing files");
     Table::from_files(files, None).expect("table")
 }
 

@@ -3,7 +3,9 @@
 //! solves) and calls `fmi2DoStep`, dry and wet, with warm starts (the default) and without; and in table
 //! mode (issue 5 target ≤ 2 µs), with a small table built for a 6 × 6 grid first (the lookup cost does not
 //! depend on the grid), also with a new contact ellipse every step (random geometry), dry and wet with all
-//! three creepages (the whole 16-corner stencil), and both by a table built by similarity (12 corners). Also a step followed by the six columns of the Jacobian (one
+//! three creepages (the whole 16-corner stencil), and both by a table built by similarity (12 corners), and
+//! on the nodes of the whole-range table (synthetic values, exact at the probe nodes: the layout's cost
+//! without its build; ≈ 1 minute to set up, 1.2 GB in the temporary directory while it runs). Also a step followed by the six columns of the Jacobian (one
 //! `fmi2GetDirectionalDerivative` call per input, as a master asks), by table and exact. Run with
 //! `cargo bench -p wheelrail-fmu`.
 
@@ -18,7 +20,7 @@ use std::ffi::CString;
 use std::hint::black_box;
 
 mod common;
-use common::{Setup, instance, small_table, small_table_by_similarity};
+use common::{Setup, instance, small_table, small_table_by_similarity, whole_range_timing_table};
 
 /// Benchmarks `fmi2DoStep` on `fmu`, alternating the longitudinal creepage between two values.
 ///
@@ -102,17 +104,17 @@ fn do_step(c: &mut Criterion) {
     }
 }
 
-/// A dry instance in table-only mode (grid 6, the small tables' parameters) with the table at `dir`, at
-/// ξ = 0.3 %, whose first step the table evaluated.
+/// A dry instance in table-only mode (`grid` the table's: 6 for the small tables) with the table at `dir`,
+/// at ξ = 0.3 %, whose first step the table evaluated.
 ///
 /// # Safety
 /// The instance is freed by the caller (`fmi2FreeInstance`).
-unsafe fn table_instance(dir: &std::path::Path) -> *mut std::ffi::c_void {
+unsafe fn table_instance(dir: &std::path::Path, grid: i32) -> *mut std::ffi::c_void {
     let dir_c = CString::new(dir.to_str().unwrap()).unwrap();
     unsafe {
         let fmu = instance(&Setup {
             mode: 1,
-            grid: 6,
+            grid,
             table: Some(&dir_c),
             wetness: 0.0,
             warm: true,
@@ -134,7 +136,7 @@ unsafe fn table_instance(dir: &std::path::Path) -> *mut std::ffi::c_void {
 fn do_step_table(c: &mut Criterion) {
     let dir = small_table();
     unsafe {
-        let fmu = table_instance(&dir);
+        let fmu = table_instance(&dir, 6);
         bench_steps(c, "fmi2DoStep/table, dry, xi 0.3 %", fmu, [0.003, 0.0031]);
         bench_jacobian(
             c,
@@ -149,8 +151,21 @@ fn do_step_table(c: &mut Criterion) {
     // the same by a table built by similarity (one normal force node: 12 corners, dry 6)
     let dir = small_table_by_similarity();
     unsafe {
-        let fmu = table_instance(&dir);
+        let fmu = table_instance(&dir, 6);
         bench_geometry_cases(c, "table by similarity", fmu);
+        fmi2FreeInstance(fmu);
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// The random-geometry cases on the nodes of the whole-range table (synthetic values: the layout's cost
+/// without its build; by similarity, 12 corners), at the FMU's default parameters.
+fn do_step_whole_range(c: &mut Criterion) {
+    let dir = whole_range_timing_table();
+    let grid = wheelrail::Params::default().grid.nx as i32;
+    unsafe {
+        let fmu = table_instance(&dir, grid);
+        bench_geometry_cases(c, "whole-range nodes (synthetic values)", fmu);
         fmi2FreeInstance(fmu);
     }
     let _ = std::fs::remove_dir_all(dir);
@@ -226,6 +241,6 @@ criterion_group! {
     name = benches;
     // no plots: criterion's plotters backend needs system fonts
     config = Criterion::default().without_plots().sample_size(10);
-    targets = do_step, do_step_table
+    targets = do_step, do_step_table, do_step_whole_range
 }
 criterion_main!(benches);

@@ -431,6 +431,34 @@ pub fn tabulate(
     }
 }
 
+/// The files of a table on the nodes of `axes` for timing lookups and FMU steps on its layout without
+/// building it (a lookup costs the same whatever the values): a smooth function shaped like the model's
+/// outputs (forces saturating along ξ̂ and η̂, falling with speed and wetness; a spin moment along φ̂; T_max
+/// rising with |ξ̂|; a fluid share growing with w; a frictional power), and at the probe nodes the exact
+/// solutions, so that loading ([`super::Table::load`], the FMU) accepts the table.
+pub fn timing_files(params: &Params, axes: &Axes) -> Result<TableFiles> {
+    let mut files = tabulate(params, axes, &|q| {
+        let saturated = |x: f64| (x / 0.4).tanh();
+        let falling = 1.0 - 0.001 * q[4] - 0.3 * q[5];
+        [
+            -0.4 * falling * saturated(q[0]),
+            -0.4 * falling * (saturated(q[1]) + 0.1 * saturated(q[2])),
+            0.01 * saturated(q[2]),
+            300.0 + 100.0 * q[0].abs().sqrt(),
+            0.5 * q[5],
+            0.01 * saturated(q[0]).abs(),
+        ]
+    });
+    let table = super::Table::from_files(files.clone(), None)?;
+    for n in table.probe_nodes() {
+        let (_, _, exact) = table.exact_at_node(n)?;
+        for (o, v) in exact.into_iter().enumerate() {
+            files.outputs[o][n] = v;
+        }
+    }
+    Ok(files)
+}
+
 /// The sidecar of a build (outputs and converged records are filled in when written).
 fn sidecar(
     params: &Params,

@@ -439,6 +439,19 @@ impl Table {
             .collect()
     }
 
+    /// The operating point and contact of node `n` (index in the arrays' order) and their exact solution,
+    /// cold, normalised as the table stores it ([`build::normalised`]).
+    pub(crate) fn exact_at_node(
+        &self,
+        n: usize,
+    ) -> Result<(OperatingPoint, Ellipse, [f32; OUTPUTS])> {
+        let (point, e) = self.coordinates.point(&self.axes.coordinates(n))?;
+        let mut params = self.sidecar.params.clone();
+        params.geometry.semi_axes = Some([e.a, e.b]);
+        let s = crate::solver::solve(&params, &point)?;
+        Ok((point, e, build::normalised(&s, &point, e.radius())?))
+    }
+
     /// The probe tolerance of output `o`: [`PROBE_TOLERANCE`], plus half the code step of a table stored
     /// as u16 codes (rounding to the nearest code: e.g. 9e-6 of F/F_N, 0.005 K of T_max).
     fn probe_tolerance(&self, o: usize) -> f64 {
@@ -460,12 +473,7 @@ impl Table {
     /// load (milliseconds each).
     pub fn check_probes(&self) -> Result<()> {
         for n in self.probe_nodes() {
-            let q = self.axes.coordinates(n);
-            let (point, e) = self.coordinates.point(&q)?;
-            let mut params = self.sidecar.params.clone();
-            params.geometry.semi_axes = Some([e.a, e.b]);
-            let s = crate::solver::solve(&params, &point)?;
-            let want = build::normalised(&s, &point, e.radius())?;
+            let (point, e, want) = self.exact_at_node(n)?;
             let mut stored = self.rows[memory_index(&self.axes.shape(), &self.strides, n)].0;
             // the heat is stored per unit of the node's direction factor Λ
             let lambda = self.coordinates.of(&point, &e)?.heating as f32;
@@ -2282,6 +2290,25 @@ mod tests {
         }
         // both mirrors, unresolved cells and non-zero values among the points
         assert!(kinds.iter().all(|k| *k > 10), "{kinds:?}");
+    }
+
+    /// Timing files load (their probe nodes hold the exact solutions), a synthetic table without them does
+    /// not.
+    #[test]
+    fn timing_files_pass_the_probes_a_synthetic_table_does_not() {
+        let params = coarse_params();
+        let axes = tiny_axes();
+        let dir = std::env::temp_dir().join(format!("wheelrail-timing-{}", std::process::id()));
+        let mut files = build::timing_files(&params, &axes).unwrap();
+        files.write(&dir).unwrap();
+        let loaded = Table::load(&dir);
+        let mut plain = build::tabulate(&params, &axes, &|_| [0.1, 0.0, 0.0, 300.0, 0.0, 0.0]);
+        plain.write(&dir).unwrap();
+        let refused = Table::load(&dir);
+        let _ = std::fs::remove_dir_all(&dir);
+        assert!(loaded.is_ok(), "{loaded:?}");
+        let reason = refused.unwrap_err().to_string();
+        assert!(reason.contains("another model"), "{reason}");
     }
 
     #[test]

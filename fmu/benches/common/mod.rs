@@ -36,6 +36,27 @@ fn small_table_of(similarity: bool) -> std::path::PathBuf {
     dir
 }
 
+/// A table on the nodes of the whole-range table (`tools/whole-range-axes.toml`: 46 million points, 2.2 GB
+/// in memory) of synthetic values with the exact solutions at its probe nodes
+/// (`wheelrail::table::build::timing_files`), for the FMU's default parameters: FMU steps on the layout of
+/// the table the FMU will bundle, without its ≈ 118 core-hours of build (a lookup costs the same whatever
+/// the values). Written as f32 (1.2 GB on disk, in the temporary directory) and loaded in ≈ 15 s.
+#[allow(dead_code)] // not every bench uses it
+pub fn whole_range_timing_table() -> std::path::PathBuf {
+    let axes = wheelrail::table::Axes::from_toml_file(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tools/whole-range-axes.toml"),
+    )
+    .unwrap();
+    let dir = std::env::temp_dir().join(format!(
+        "wheelrail-fmu-bench-whole-range-{}",
+        std::process::id()
+    ));
+    let mut files =
+        wheelrail::table::build::timing_files(&wheelrail::Params::default(), &axes).unwrap();
+    files.write(&dir).unwrap();
+    dir
+}
+
 /// How a benchmark instance evaluates.
 pub struct Setup<'a> {
     /// `mode` (0 auto, 1 table only, 2 exact only).
