@@ -1270,8 +1270,9 @@ fn corner_sum<const K: u8, const PAIR: bool>(
 /// the whole-range table's nodes, a wet lookup with a new ellipse every time): AVX2 one point at a time
 /// 544–552 ns, AVX-512 four at once 485–496 ns; one point at a time with AVX-512 was no faster than AVX2 —
 /// a point's twelve corners are a chain of fused multiply-adds into the same sums, whose latency the
-/// four points' independent sums hide; and two points at once with AVX2 (their twelve sums in the sixteen
-/// registers) was slower (485–496 → 521–535 ns per library evaluation on the fixture table).
+/// four points' independent sums hide. With AVX2, two points at once (their twelve sums in the sixteen
+/// registers) was slower (485–496 → 521–535 ns per library evaluation on the fixture table) and the four
+/// in two passes (lower rows, then upper rows) no faster: the 4-wide sums are bound by their conversions.
 #[inline(always)]
 fn window_sums<const K: u8>(
     rows: &[Row],
