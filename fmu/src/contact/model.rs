@@ -691,18 +691,10 @@ mod tests {
         let mut forces = Vec::new();
         for (p, i) in EXPOSED_PARAMETERS {
             let s = p.spec();
-            let x = [0.8, 1.2]
-                .map(|f| f * s.default)
-                .into_iter()
-                .find(|&x| s.range.contains(x))
-                .unwrap();
-            for value in [x, s.default] {
+            for value in [off_default(p, [0.8, 1.2]), s.default] {
                 v.set(i, Value::Real(value));
                 model.calculate(&mut v, &log).unwrap();
-                let mut fresh = v.clone();
-                WheelRailModel::new(None)
-                    .calculate(&mut fresh, &log)
-                    .unwrap();
+                let fresh = by_a_fresh_instance(&v, &log);
                 let f = v.real(FORCE_LONGITUDINAL);
                 assert_eq!(
                     f.to_bits(),
@@ -818,15 +810,31 @@ mod tests {
         assert!(error_of(|v| v.set(MINIMUM_SPEED, Value::Real(0.0))).contains("minimum_speed"));
     }
 
+    /// The values a fresh instance computes from `v` (its outputs from its inputs and parameters).
+    fn by_a_fresh_instance(v: &Values, log: &Logger) -> Values {
+        let mut fresh = v.clone();
+        WheelRailModel::new(None)
+            .calculate(&mut fresh, log)
+            .unwrap();
+        fresh
+    }
+
+    /// A value of parameter `p` off its default: the default times the first of `factors` that stays in
+    /// its range.
+    fn off_default(p: Param, factors: [f64; 2]) -> f64 {
+        let s = p.spec();
+        factors
+            .map(|f| f * s.default)
+            .into_iter()
+            .find(|&x| s.range.contains(x))
+            .unwrap()
+    }
+
     #[test]
     fn every_exposed_parameter_reaches_the_library_and_its_errors_name_the_variable() {
         for (p, i) in EXPOSED_PARAMETERS {
             let s = p.spec();
-            let x = [0.9, 1.01]
-                .map(|f| f * s.default)
-                .into_iter()
-                .find(|&x| s.range.contains(x))
-                .unwrap();
+            let x = off_default(p, [0.9, 1.01]);
             let mut v = Values::start(&VARIABLES);
             v.set(i, Value::Real(x));
             assert_eq!(WheelRailModel::params(&v).unwrap().get(p), x, "{}", s.toml);
@@ -1021,11 +1029,7 @@ mod tests {
             for xi in [0.003, 0.004] {
                 v.set(CREEPAGE_LONGITUDINAL, Value::Real(xi));
                 m.calculate(&mut v, &log).unwrap();
-                let mut fresh = v.clone();
-                WheelRailModel::new(None)
-                    .calculate(&mut fresh, &log)
-                    .unwrap();
-                assert_eq!(fresh, v);
+                assert_eq!(by_a_fresh_instance(&v, &log), v);
                 let reused = columns(&mut m, &v, &log);
                 assert_eq!(reused, columns(&mut WheelRailModel::new(None), &v, &log));
                 assert!(reused.iter().flatten().any(|d| *d != 0.0));
