@@ -449,9 +449,10 @@ pub fn timing_files(params: &Params, axes: &Axes) -> Result<TableFiles> {
             0.01 * saturated(q[0]).abs(),
         ]
     });
-    let table = super::Table::from_files(files.clone(), None)?;
-    for n in table.probe_nodes() {
-        let (_, _, exact) = table.exact_at_node(n)?;
+    // the probe nodes as the loaded table finds them (every point converged), without laying out its rows
+    let coordinates = Coordinates::new(params, axes);
+    for n in super::probe_nodes(axes, |n| files.converged[n] == 1) {
+        let (_, _, exact) = super::exact_at_node(params, &coordinates, axes, n)?;
         for (o, v) in exact.into_iter().enumerate() {
             files.outputs[o][n] = v;
         }

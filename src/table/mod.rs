@@ -417,39 +417,19 @@ impl Table {
         Ok(t)
     }
 
-    /// The nodes whose stored values [`Table::check_probes`] compares with the exact solver: in
-    /// [`PROBES`] creepage cubes spread over the table (first converged cube from each of PROBES equal
-    /// parts), the creepage node (ξ̂ index 1, η̂ index 1, the φ̂ node just above the middle), which every
-    /// cube solves (coverage windows start at ξ̂ = η̂ = 0 and are symmetric in φ̂).
+    /// The nodes whose stored values [`Table::check_probes`] compares with the exact solver
+    /// ([`probe_nodes`] of this table's axes and converged points).
     pub fn probe_nodes(&self) -> Vec<usize> {
         let shape = self.axes.shape();
-        let cubes = file::cube_count(&self.axes);
-        let (i, j, l) = (
-            1.min(shape[XI] - 1),
-            1.min(shape[ETA] - 1),
-            (shape[PHI] / 2 + 1).min(shape[PHI] - 1),
-        );
-        let node = (i * shape[ETA] + j) * shape[PHI] + l;
-        (0..PROBES)
-            .filter_map(|k| {
-                (k * cubes / PROBES..(k + 1) * cubes / PROBES)
-                    .map(|t| node * cubes + t)
-                    .find(|&n| self.converged[memory_index(&shape, &self.strides, n)] == 1)
-            })
-            .collect()
+        probe_nodes(&self.axes, |n| {
+            self.converged[memory_index(&shape, &self.strides, n)] == 1
+        })
     }
 
-    /// The operating point and contact of node `n` (index in the arrays' order) and their exact solution,
-    /// cold, normalised as the table stores it ([`build::normalised`]).
-    pub(crate) fn exact_at_node(
-        &self,
-        n: usize,
-    ) -> Result<(OperatingPoint, Ellipse, [f32; OUTPUTS])> {
-        let (point, e) = self.coordinates.point(&self.axes.coordinates(n))?;
-        let mut params = self.sidecar.params.clone();
-        params.geometry.semi_axes = Some([e.a, e.b]);
-        let s = crate::solver::solve(&params, &point)?;
-        Ok((point, e, build::normalised(&s, &point, e.radius())?))
+    /// The operating point and contact of node `n` (index in the arrays' order) and their exact solution
+    /// ([`exact_at_node`]).
+    fn exact_at_node(&self, n: usize) -> Result<(OperatingPoint, Ellipse, [f32; OUTPUTS])> {
+        exact_at_node(&self.sidecar.params, &self.coordinates, &self.axes, n)
     }
 
     /// The probe tolerance of output `o`: [`PROBE_TOLERANCE`], plus half the code step of a table stored
@@ -1110,6 +1090,45 @@ impl Table {
             resolved,
         }
     }
+}
+
+/// The nodes whose stored values loading compares with the exact solver ([`Table::check_probes`]), by
+/// index in the arrays' order: in [`PROBES`] creepage cubes spread over a table on `axes` (the first cube
+/// whose node converged, `converged(n)`, from each of PROBES equal parts), the creepage node (ξ̂ index 1, η̂
+/// index 1, the φ̂ node just above the middle), which every cube solves (coverage windows start at
+/// ξ̂ = η̂ = 0 and are symmetric in φ̂).
+pub(crate) fn probe_nodes(axes: &Axes, converged: impl Fn(usize) -> bool) -> Vec<usize> {
+    let shape = axes.shape();
+    let cubes = file::cube_count(axes);
+    let (i, j, l) = (
+        1.min(shape[XI] - 1),
+        1.min(shape[ETA] - 1),
+        (shape[PHI] / 2 + 1).min(shape[PHI] - 1),
+    );
+    let node = (i * shape[ETA] + j) * shape[PHI] + l;
+    (0..PROBES)
+        .filter_map(|k| {
+            (k * cubes / PROBES..(k + 1) * cubes / PROBES)
+                .map(|t| node * cubes + t)
+                .find(|&n| converged(n))
+        })
+        .collect()
+}
+
+/// The operating point and contact of node `n` (index in the arrays' order) of a table on `axes` for
+/// `params` (whose `coordinates` they are) and their exact solution, cold, normalised as the table stores it
+/// ([`build::normalised`]).
+pub(crate) fn exact_at_node(
+    params: &Params,
+    coordinates: &Coordinates,
+    axes: &Axes,
+    n: usize,
+) -> Result<(OperatingPoint, Ellipse, [f32; OUTPUTS])> {
+    let (point, e) = coordinates.point(&axes.coordinates(n))?;
+    let mut params = params.clone();
+    params.geometry.semi_axes = Some([e.a, e.b]);
+    let s = crate::solver::solve(&params, &point)?;
+    Ok((point, e, build::normalised(&s, &point, e.radius())?))
 }
 
 /// The one-sided slopes of a cubic stage next to unresolved cells (`core`): in the window values `values`
