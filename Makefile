@@ -8,7 +8,7 @@ VENV := .venv
 VPY := $(VENV)/bin/python
 FMU := target/fmu/WheelRailFriction.fmu
 
-.PHONY: all build test test-rust test-python lint demo clean venv fmu fmu-lib model-description parameter-docs bench table slurm-test fuzz
+.PHONY: all build test test-rust test-python test-win64 lint demo clean venv fmu fmu-linux fmu-lib fmu-win64-lib model-description parameter-docs bench table slurm-test fuzz
 
 all: build
 
@@ -35,8 +35,19 @@ model-description:
 parameter-docs:
 	$(CARGO) run --release -p wheelrail-cli --bin wheelrail -- parameters --markdown > docs/parameters.md
 
-# target/fmu/WheelRailFriction.fmu
-fmu: fmu-lib
+# the FMU's Windows DLL, cross-built with Debian's Rust and MinGW-w64 (tools/win64-build.sh: installs the
+# toolchain when missing, as root; target x86_64-win7-windows-gnu, own target directory target/win64)
+WIN64_DLL := target/win64/WheelRailFriction.dll
+fmu-win64-lib:
+	tools/win64-build.sh
+
+# target/fmu/WheelRailFriction.fmu with both binaries, linux64 and win64
+fmu: fmu-lib fmu-win64-lib
+	./target/release/package-fmu --library linux64=target/release/libWheelRailFriction.so \
+		--library win64=$(WIN64_DLL) --out $(FMU)
+
+# the same FMU with the linux64 binary only (no cross build: for development on Linux)
+fmu-linux: fmu-lib
 	./target/release/package-fmu --library target/release/libWheelRailFriction.so --out $(FMU)
 
 $(VENV)/.installed: requirements.txt
@@ -49,6 +60,12 @@ venv: $(VENV)/.installed
 test-python: build fmu venv
 	$(VPY) -m pytest -q tests/fmpy
 
+# the win64 binary under Wine against the linux64 binary: the same calls, statuses, logs and values
+# (tests/win64/test_win64.py; the comparison's figures in target/win64/comparison.json)
+test-win64: fmu venv
+	tools/win64-build.sh --install-only
+	$(VPY) -m pytest -q -s tests/win64
+
 demo: fmu venv
 	$(VPY) tools/demo.py --fmu $(FMU) --out target/demo
 
@@ -59,7 +76,7 @@ slurm-test:
 	$(CARGO) build --release -p wheelrail-cli --bin wheelrail
 	tools/slurm-test.sh
 
-test: lint test-rust test-python slurm-test
+test: lint test-rust test-python test-win64 slurm-test
 
 # the fuzzer of FMI call sequences (tests/fmu/fuzz.rs) at its full budget against the FMU's shared library:
 # crashes, hangs and broken invariants fail, with the seed and a shrunk call log (`make test` runs 10 000;

@@ -25,7 +25,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from fmpy import simulate_fmu  # noqa: E402
+from fmpy import read_model_description, simulate_fmu  # noqa: E402
 
 import mbs_trace  # noqa: E402  (tools/, the directory of this script)
 
@@ -47,14 +47,18 @@ def main():
     out = pathlib.Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
 
+    # the inputs the ramp does not drive (the contact geometry) as signals at their start values, so that every
+    # input of the FMU has a signal
+    held = {v.name: float(v.start) for v in read_model_description(a.fmu).modelVariables
+            if v.causality == "input" and v.name not in INPUTS}
     rows = []
     colours = {(label, speed): None for label in ("dry", "wet") for speed in (10.0, 30.0)}
     fig, ax = plt.subplots(figsize=(9, 6))
     for speed in (10.0, 30.0):
         for label, wetness in (("dry", 0.0), ("wet", 1.0)):
             # every input as a signal: creepage ramp, the others constant
-            ramp = np.array([(t, 0.03 * t, 0.0, 0.0, 100e3, speed, wetness) for t in (0.0, 1.0)],
-                            dtype=[("time", np.double)] + [(n, np.double) for n in INPUTS])
+            ramp = np.array([(t, 0.03 * t, 0.0, 0.0, 100e3, speed, wetness, *held.values()) for t in (0.0, 1.0)],
+                            dtype=[("time", np.double)] + [(n, np.double) for n in INPUTS + list(held)])
             for mode, how in ((0, "table"), (2, "exact")):
                 result = simulate_fmu(
                     a.fmu,

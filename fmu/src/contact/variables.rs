@@ -21,7 +21,7 @@
 //! relative to the rail divided by |V|: w = |V|·(ξ − φ·y, η + φ·x). Forces act on the wheel and follow
 //! Kalker's convention (they oppose the slip: F_x = −G·c²·C11·ξ in the linear range).
 
-use crate::fmi2::model::{DefaultExperiment, ModelInfo, Unit};
+use crate::fmi2::model::{DefaultExperiment, DisplayUnit, ModelInfo, Unit};
 use crate::fmi2::variables::{Causality, Kind, Variability, Variable};
 use wheelrail::params::spec::{Bound, Fmu, SEMI_AXIS_RANGE, Spec};
 use wheelrail::params::{Input, Param};
@@ -577,7 +577,8 @@ const fn assemble() -> [Variable; COUNT] {
 /// and ranges are the library's (its specification, `wheelrail::params::spec`).
 pub static VARIABLES: [Variable; COUNT] = assemble();
 
-/// Units of the variables.
+/// Units of the variables, each with the display units an importer may show it in (FMI 2.0 §2.2.2: shown =
+/// factor · value + offset).
 pub static UNITS: [Unit; 10] = [
     Unit {
         name: "1",
@@ -585,6 +586,11 @@ pub static UNITS: [Unit; 10] = [
         m: 0,
         s: 0,
         k: 0,
+        display: &[DisplayUnit {
+            name: "%",
+            factor: 100.0,
+            offset: 0.0,
+        }],
     },
     Unit {
         name: "1/m",
@@ -592,6 +598,7 @@ pub static UNITS: [Unit; 10] = [
         m: -1,
         s: 0,
         k: 0,
+        display: &[],
     },
     Unit {
         name: "N",
@@ -599,6 +606,11 @@ pub static UNITS: [Unit; 10] = [
         m: 1,
         s: -2,
         k: 0,
+        display: &[DisplayUnit {
+            name: "kN",
+            factor: 0.001,
+            offset: 0.0,
+        }],
     },
     Unit {
         name: "N.m",
@@ -606,6 +618,11 @@ pub static UNITS: [Unit; 10] = [
         m: 2,
         s: -2,
         k: 0,
+        display: &[DisplayUnit {
+            name: "kN.m",
+            factor: 0.001,
+            offset: 0.0,
+        }],
     },
     Unit {
         name: "m/s",
@@ -613,6 +630,11 @@ pub static UNITS: [Unit; 10] = [
         m: 1,
         s: -1,
         k: 0,
+        display: &[DisplayUnit {
+            name: "km/h",
+            factor: 3.6,
+            offset: 0.0,
+        }],
     },
     Unit {
         name: "K",
@@ -620,6 +642,11 @@ pub static UNITS: [Unit; 10] = [
         m: 0,
         s: 0,
         k: 1,
+        display: &[DisplayUnit {
+            name: "degC",
+            factor: 1.0,
+            offset: -273.15,
+        }],
     },
     Unit {
         name: "m",
@@ -627,6 +654,11 @@ pub static UNITS: [Unit; 10] = [
         m: 1,
         s: 0,
         k: 0,
+        display: &[DisplayUnit {
+            name: "mm",
+            factor: 1000.0,
+            offset: 0.0,
+        }],
     },
     Unit {
         name: "Pa.s",
@@ -634,6 +666,7 @@ pub static UNITS: [Unit; 10] = [
         m: -1,
         s: -1,
         k: 0,
+        display: &[],
     },
     Unit {
         name: "Pa",
@@ -641,6 +674,11 @@ pub static UNITS: [Unit; 10] = [
         m: -1,
         s: -2,
         k: 0,
+        display: &[DisplayUnit {
+            name: "MPa",
+            factor: 1e-06,
+            offset: 0.0,
+        }],
     },
     Unit {
         name: "W",
@@ -648,8 +686,30 @@ pub static UNITS: [Unit; 10] = [
         m: 2,
         s: -3,
         k: 0,
+        display: &[DisplayUnit {
+            name: "kW",
+            factor: 0.001,
+            offset: 0.0,
+        }],
     },
 ];
+
+/// Dimensionless variables shown in percent: the creepages and the fluid's share of the load.
+const IN_PERCENT: [&str; 3] = [
+    "creepage_longitudinal",
+    "creepage_lateral",
+    "fluid_load_fraction",
+];
+
+/// The display unit a variable is shown in by default: the SI units' display units (kN, kN.m, km/h, degC,
+/// mm, MPa, kW), percent for [`IN_PERCENT`], none for the other units.
+fn display_unit(v: &Variable) -> Option<&'static str> {
+    let Kind::Real { unit, .. } = v.kind else {
+        return None;
+    };
+    let shown = UNITS.iter().find(|u| u.name == unit)?.display.first()?.name;
+    (unit != "1" || IN_PERCENT.contains(&v.name)).then_some(shown)
+}
 
 /// The model description of WheelRailFriction.fmu.
 pub static INFO: ModelInfo = ModelInfo {
@@ -663,6 +723,7 @@ pub static INFO: ModelInfo = ModelInfo {
     license: "MIT OR Apache-2.0",
     generation_tool: concat!("wheelrail-fmu ", env!("CARGO_PKG_VERSION")),
     units: &UNITS,
+    display_unit,
     variables: &VARIABLES,
     default_experiment: DefaultExperiment {
         start_time: 0.0,
@@ -676,6 +737,49 @@ mod tests {
     use super::*;
     use crate::fmi2::variables::{Value, Values};
     use wheelrail::Params;
+
+    /// The value `x` of variable `vr` as an importer shows it in the variable's display unit.
+    fn shown(vr: usize, x: f64) -> (f64, &'static str) {
+        let v = &VARIABLES[vr];
+        let name = display_unit(v).expect("a display unit");
+        let Kind::Real { unit, .. } = v.kind else {
+            unreachable!()
+        };
+        let unit = UNITS.iter().find(|u| u.name == unit).unwrap();
+        let d = unit.display.iter().find(|d| d.name == name).unwrap();
+        (d.factor * x + d.offset, name)
+    }
+
+    #[test]
+    fn display_units_convert_as_their_definitions_say() {
+        // water boils at 373.15 K = 100 degC; 100 kN; 30 m/s = 108 km/h; a creepage of 0.002 = 0.2 %
+        let close = |(a, unit): (f64, &str), (b, want): (f64, &str)| {
+            assert!(
+                (a - b).abs() <= 1e-12 * b.abs().max(1.0) && unit == want,
+                "{a} {unit}"
+            );
+        };
+        close(shown(MAX_TEMPERATURE, 373.15), (100.0, "degC"));
+        close(shown(BULK_TEMPERATURE, 273.15), (0.0, "degC"));
+        close(shown(NORMAL_FORCE, 1e5), (100.0, "kN"));
+        close(shown(FORCE_LATERAL, -2.5e4), (-25.0, "kN"));
+        close(shown(SPIN_MOMENT, 1500.0), (1.5, "kN.m"));
+        close(shown(ROLLING_SPEED, 30.0), (108.0, "km/h"));
+        close(shown(CREEPAGE_LONGITUDINAL, 0.002), (0.2, "%"));
+        close(shown(CONTACT_SEMI_AXIS_A, 5.9e-3), (5.9, "mm"));
+        close(shown(PEAK_PRESSURE, 7.7e8), (770.0, "MPa"));
+        close(shown(FRICTIONAL_POWER, 2.0e4), (20.0, "kW"));
+        // the traction coefficient and the wetness stay as they are (no percent), non-Reals have none
+        for vr in [TRACTION_COEFFICIENT, WETNESS, ROUGHNESS, MODE, CONVERGED] {
+            assert_eq!(display_unit(&VARIABLES[vr]), None, "{}", VARIABLES[vr].name);
+        }
+        // every display unit is defined once in its unit
+        for u in &UNITS {
+            for d in u.display {
+                assert_eq!(u.display.iter().filter(|e| e.name == d.name).count(), 1);
+            }
+        }
+    }
 
     #[test]
     fn value_references_are_table_indices_and_names_are_unique() {

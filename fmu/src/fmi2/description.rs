@@ -48,7 +48,7 @@ fn variability(v: Variability) -> &'static str {
     }
 }
 
-fn variable_xml(out: &mut String, v: &Variable) {
+fn variable_xml(out: &mut String, v: &Variable, display_unit: Option<&str>) {
     let initial = match v.causality {
         Causality::Parameter => " initial=\"exact\"",
         Causality::Output => " initial=\"calculated\"",
@@ -77,8 +77,9 @@ fn variable_xml(out: &mut String, v: &Variable) {
             max,
             nominal,
         } => format!(
-            "<Real unit=\"{}\"{}{}{}{}/>",
+            "<Real unit=\"{}\"{}{}{}{}{}/>",
             esc(unit),
+            attr("displayUnit", display_unit.map(esc)),
             attr("start", start.map(real)),
             attr("min", min.map(real)),
             attr("max", max.map(real)),
@@ -143,6 +144,19 @@ fn document(info: &ModelInfo, guid: &str) -> String {
             .collect::<String>();
         let _ = writeln!(x, "    <Unit name=\"{}\">", esc(u.name));
         let _ = writeln!(x, "      <BaseUnit{exps}/>");
+        for d in u.display {
+            let offset = if d.offset == 0.0 {
+                String::new()
+            } else {
+                format!(" offset=\"{}\"", real(d.offset))
+            };
+            let _ = writeln!(
+                x,
+                "      <DisplayUnit name=\"{}\" factor=\"{}\"{offset}/>",
+                esc(d.name),
+                real(d.factor)
+            );
+        }
         let _ = writeln!(x, "    </Unit>");
     }
     let _ = writeln!(x, "  </UnitDefinitions>");
@@ -166,7 +180,7 @@ fn document(info: &ModelInfo, guid: &str) -> String {
     let _ = writeln!(x, "  <ModelVariables>");
     for (i, v) in info.variables.iter().enumerate() {
         let _ = writeln!(x, "    <!-- index {} -->", i + 1);
-        variable_xml(&mut x, v);
+        variable_xml(&mut x, v, (info.display_unit)(v));
     }
     let _ = writeln!(x, "  </ModelVariables>");
     // ModelStructure refers to variables by 1-based index in ModelVariables
@@ -225,7 +239,7 @@ pub fn model_description(info: &ModelInfo) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fmi2::model::{DefaultExperiment, Unit};
+    use crate::fmi2::model::{DefaultExperiment, DisplayUnit, Unit};
 
     static VARS: [Variable; 2] = [
         Variable {
@@ -271,7 +285,13 @@ mod tests {
             m: 1,
             s: -2,
             k: 0,
+            display: &[DisplayUnit {
+                name: "kN",
+                factor: 1e-3,
+                offset: 0.0,
+            }],
         }],
+        display_unit: |v| (v.name == "y").then_some("kN"),
         variables: &VARS,
         default_experiment: DefaultExperiment {
             start_time: 0.0,
@@ -287,6 +307,8 @@ mod tests {
         assert!(x.contains("<Real unit=\"N\" start=\"100000.0\" min=\"-1.0\"/>"));
         assert!(x.contains("<Unknown index=\"2\" dependencies=\"1\"/>"));
         assert!(x.contains("<BaseUnit kg=\"1\" m=\"1\" s=\"-2\"/>"));
+        assert!(x.contains("<DisplayUnit name=\"kN\" factor=\"0.001\"/>"));
+        assert!(x.contains("<Real unit=\"N\" displayUnit=\"kN\"/>"));
         assert!(x.contains("initial=\"calculated\""));
         // both interface types, one binary
         assert_eq!(x.matches("modelIdentifier=\"M\"").count(), 2);

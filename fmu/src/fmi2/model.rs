@@ -22,6 +22,19 @@ pub struct Unit {
     pub s: i32,
     /// Exponent of kelvin.
     pub k: i32,
+    /// The units an importer may show values of this unit in.
+    pub display: &'static [DisplayUnit],
+}
+
+/// A `<DisplayUnit>` of a [`Unit`] (FMI 2.0 §2.2.2): a value shown in it is `factor · value + offset`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DisplayUnit {
+    /// The display unit's name (the variables' `displayUnit` attribute).
+    pub name: &'static str,
+    /// Factor from the unit to the display unit.
+    pub factor: f64,
+    /// Offset added after the factor (e.g. −273.15 from kelvin to degrees Celsius).
+    pub offset: f64,
 }
 
 /// `<DefaultExperiment>`.
@@ -54,6 +67,9 @@ pub struct ModelInfo {
     pub generation_tool: &'static str,
     /// Units used by the variables.
     pub units: &'static [Unit],
+    /// The display unit a variable is shown in by default (its `displayUnit` attribute), if any: one of
+    /// the display units of its unit.
+    pub display_unit: fn(&Variable) -> Option<&'static str>,
     /// The variable table.
     pub variables: &'static [Variable],
     /// The default experiment.

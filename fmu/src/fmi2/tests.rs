@@ -85,7 +85,9 @@ static INFO: ModelInfo = ModelInfo {
         m: 0,
         s: 0,
         k: 0,
+        display: &[],
     }],
+    display_unit: |_| None,
     variables: &VARS,
     default_experiment: DefaultExperiment {
         start_time: 0.0,
