@@ -407,22 +407,34 @@ fn row(v: &Variable) -> String {
             String::new(),
         ),
     };
-    let causality = match v.causality {
-        Causality::Parameter => "parameter",
-        Causality::Input => "input",
-        Causality::Output => "output",
-    };
+    let shown = (INFO.display_unit)(v).unwrap_or_default();
     format!(
-        "<tr><td><code>{}</code></td><td>{}</td><td>{causality}</td><td>{ty}</td><td>{}</td><td>{start}</td><td>{min}</td><td>{max}</td><td>{}</td></tr>\n",
+        "<tr><td><code>{}</code></td><td>{}</td><td>{ty}</td><td>{}</td><td>{}</td><td>{start}</td><td>{min}</td><td>{max}</td><td>{}</td></tr>\n",
         v.name,
         v.vr,
         esc(unit),
+        esc(shown),
         esc(v.description)
     )
 }
 
+/// The variables of one causality as an HTML table (the header names the columns of [`row`]).
+fn variable_table(causality: Causality) -> String {
+    let rows: String = VARIABLES
+        .iter()
+        .filter(|v| v.causality == causality)
+        .map(row)
+        .collect();
+    format!(
+        "<table><tr><th>name</th><th>value reference</th><th>type</th><th>unit</th><th>display unit</th>\
+         <th>start</th><th>min</th><th>max</th><th>description</th></tr>\n{rows}</table>"
+    )
+}
+
 fn documentation() -> String {
-    let rows: String = VARIABLES.iter().map(row).collect();
+    let inputs = variable_table(Causality::Input);
+    let outputs = variable_table(Causality::Output);
+    let parameters = variable_table(Causality::Parameter);
     format!(
         r#"<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>WheelRailFriction FMU</title>
@@ -440,7 +452,8 @@ instances per process, on any threads.</p>
 <h2>Conventions</h2>
 <ul>
 <li><b>Frame:</b> x along the track in the direction of travel for positive <code>rolling_speed</code>, y lateral,
-z normal. SI units; temperatures in kelvin.</li>
+z normal into the rail; the contact ellipse has the semi-axis a along x and b along y. SI units; temperatures in
+kelvin. One instance per contact.</li>
 <li><b>Creepages</b> are the rigid slip velocity of the wheel relative to the rail divided by |V|:
 w = |V|&middot;(&xi; &minus; &phi;&middot;y, &eta; + &phi;&middot;x) (Kalker).</li>
 <li><b>Forces</b> act on the wheel, Kalker's sign convention: they oppose the slip, F<sub>x</sub> =
@@ -493,10 +506,18 @@ within an integrator step give the same outputs for the same inputs. <code>canHa
 <p><img src="traction_creepage.png" alt="traction coefficient over longitudinal creepage, dry and wet"
 width="900"></p>
 
-<h2>Variables</h2>
-<table><tr><th>name</th><th>value reference</th><th>causality</th><th>type</th><th>unit</th><th>start</th>
-<th>min</th><th>max</th><th>description</th></tr>
-{rows}</table>
+<h2>Inputs</h2>
+<p>Continuous, set before every step (Co-Simulation) or evaluation (Model Exchange). Values in SI units; the
+display unit is the one an importer shows by default (<code>displayUnit</code> in modelDescription.xml).</p>
+{inputs}
+
+<h2>Outputs</h2>
+<p>Every output depends on every input (direct feedthrough, no states).</p>
+{outputs}
+
+<h2>Parameters</h2>
+<p>Fixed: set between instantiation and <code>fmi2ExitInitializationMode</code>.</p>
+{parameters}
 </body></html>
 "#,
         version = env!("CARGO_PKG_VERSION"),
@@ -554,6 +575,32 @@ mod tests {
         let default = args(&[]).unwrap();
         assert_eq!(default.libraries.len(), 1);
         assert!(default.libraries[0].1.starts_with("target/release"));
+    }
+
+    #[test]
+    fn the_documentation_lists_each_variable_once_in_the_table_of_its_causality() {
+        let html = documentation();
+        let section = |title: &str| {
+            let start = html.find(&format!("<h2>{title}</h2>")).unwrap();
+            let end = html[start..].find("</table>").unwrap() + start;
+            html[start..end].to_string()
+        };
+        let sections = [
+            (Causality::Input, section("Inputs")),
+            (Causality::Output, section("Outputs")),
+            (Causality::Parameter, section("Parameters")),
+        ];
+        for v in &VARIABLES {
+            let cell = format!("<td><code>{}</code></td>", v.name);
+            for (causality, text) in &sections {
+                let want = usize::from(*causality == v.causality);
+                assert_eq!(text.matches(&cell).count(), want, "{}", v.name);
+            }
+        }
+        // the display units of modelDescription.xml, e.g. the temperature in degrees Celsius
+        assert!(html.contains(
+            "<td><code>max_temperature</code></td><td>10</td><td>Real</td><td>K</td><td>degC</td>"
+        ));
     }
 
     #[test]
