@@ -109,10 +109,9 @@ clean:
 
 # The committed lookup table (default parameters; the default running-surface contact, one geometry, on the
 # axes of tools/default-contact-axes.toml: 693 000 points, 2158 s on 2 cores), then its verification against
-# the exact solver (2000 random points). The library's default axes (without --axes) span the contact
-# geometry (a/b, p_ref: 15.3 million points, not yet sized down, issue 13): beyond one machine. On a Slurm
-# cluster, `wheelrail table slurm --shards N --out DIR [--axes FILE]` writes the array job, the
-# merge-and-verify job and DIR/submit.sh (README, Tabulation mode).
+# the exact solver (2000 random points). Tables over the contact geometry (tools/whole-range-axes.toml) are
+# beyond one machine: on a Slurm cluster, `wheelrail table slurm --shards N --out DIR [--axes FILE]` writes
+# the array job, the merge-and-verify job and DIR/submit.sh (docs/tables.md).
 TABLE_DIR := fmu/resources/table
 table:
 	$(CARGO) run --release -p wheelrail-cli --bin wheelrail -- table build --axes tools/default-contact-axes.toml --out $(TABLE_DIR)

@@ -1,5 +1,5 @@
 #!/bin/bash
-# End-to-end test of `wheelrail table slurm` on a real one-node Slurm cluster on this machine (issue 13 §3).
+# End-to-end test of `wheelrail table slurm` on a real one-node Slurm cluster on this machine.
 #
 # Installs slurmctld, slurmd, slurm-client and munge from the distribution's packages when missing (Debian;
 # needs root), writes a temporary slurm.conf (one node: this host with all its cores), starts munged,

@@ -23,7 +23,7 @@ STEP = 1e-3
 INPUTS = mbs_trace.COLUMNS[1:]
 OUTPUTS = ["force_longitudinal", "force_lateral", "evaluation_mode", "contact_semi_axis_a", "contact_semi_axis_b",
            "peak_pressure"]
-# |ΔF|/F_N targets of the table (issue 13; `wheelrail table verify`)
+# |ΔF|/F_N accuracy targets of a table (those `wheelrail table verify` checks)
 TARGET_P99, TARGET_MAX = 0.01, 0.03
 
 

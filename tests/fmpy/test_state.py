@@ -1,4 +1,4 @@
-"""FMU states restore an instance bit for bit (issue 16): an instance set to another's state, or to its
+"""FMU states restore an instance bit for bit: an instance set to another's state, or to its
 serialized and deserialized copy in a fresh instance, continues exactly as the instance it was taken of."""
 
 import pytest

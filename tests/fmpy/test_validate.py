@@ -40,7 +40,7 @@ def test_model_description_declares_the_capabilities(fmu_path):
 
 
 # parameters of the library (rows of kind "parameter") that the FMU takes as inputs of every step: the contact
-# geometry (issue 13)
+# geometry
 GEOMETRY_INPUTS = {"curvature_longitudinal", "curvature_lateral"}
 
 
