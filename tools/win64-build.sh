@@ -13,9 +13,12 @@
 #
 # Installs the missing packages with apt-get (needs root; otherwise says what to install and exits 1).
 #
-# Usage: tools/win64-build.sh [--install-only]   (from anywhere; prints the DLL's path last)
+# Usage: tools/win64-build.sh [--install-only | --test-library]   (from anywhere; prints the DLL's path last)
 #   --install-only   install the cross toolchain and Wine (wine64, wine: what tests/win64 runs the DLL on),
 #                    build nothing
+#   --test-library   build the library's unit tests for Windows and run them under Wine (cargo's runner for
+#                    the target; a temporary Wine prefix, removed afterwards): the table kernels' dispatch
+#                    and the physics as on Linux
 set -euo pipefail
 
 TARGET=x86_64-win7-windows-gnu
@@ -32,7 +35,11 @@ fail() {
 
 # The packages and, for each, a file that shows it is installed.
 packages=(rustc-web cargo-web rust-web-src gcc-mingw-w64-x86-64)
-[ "${1:-}" = --install-only ] && packages+=(wine64 wine)
+case "${1:-}" in
+--install-only | --test-library) packages+=(wine64 wine) ;;
+"") ;;
+*) fail "unknown argument $1 (see the header of $0)" ;;
+esac
 marker() {
     case "$1" in
     rustc-web) echo /usr/bin/rustc ;;
@@ -72,9 +79,26 @@ fi
 # Debian's toolchain only: no rustup proxies, no settings of the project's own toolchain or of a calling cargo.
 unset RUSTUP_TOOLCHAIN RUSTUP_HOME CARGO RUSTFLAGS RUSTDOCFLAGS CARGO_BUILD_TARGET CARGO_TARGET_DIR CARGO_ENCODED_RUSTFLAGS
 cd "$repo"
-PATH=/usr/bin:/bin RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1 CARGO_TARGET_DIR="$out_dir" \
-    /usr/bin/cargo build --release --locked -p wheelrail-fmu --lib --target "$TARGET" \
-    -Zbuild-std=std,panic_unwind
+cross_cargo() {
+    local command=$1
+    shift
+    PATH=/usr/bin:/bin RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1 CARGO_TARGET_DIR="$out_dir" \
+        /usr/bin/cargo "$command" --release --locked --target "$TARGET" -Zbuild-std=std,panic_unwind "$@"
+}
+
+if [ "${1:-}" = --test-library ]; then
+    prefix=$(mktemp -d /tmp/wheelrail-wine.XXXXXX)
+    # the Wine server outlives the tests by a few seconds: stop it before removing its prefix
+    trap 'WINEPREFIX="$prefix" wineserver -k 2>/dev/null; rm -rf "$prefix"' EXIT
+    runner="CARGO_TARGET_$(echo "$TARGET" | tr a-z- A-Z_)_RUNNER"
+    # no Mono or Gecko installers (they would ask through a window) when Wine creates the prefix
+    export "$runner=wine" WINEPREFIX="$prefix" WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
+    unset DISPLAY
+    cross_cargo test -p wheelrail --lib
+    exit
+fi
+
+cross_cargo build -p wheelrail-fmu --lib
 [ -f "$built" ] || fail "the build finished but $built is missing"
 if [ ! -f "$dll" ] || [ "$built" -nt "$dll" ]; then
     /usr/bin/x86_64-w64-mingw32-strip --strip-unneeded -o "$dll.tmp" "$built"

@@ -155,7 +155,9 @@ def wine_env(tmp_path_factory):
         # no Mono or Gecko installers (they would ask through a window) when Wine creates the prefix
         WINEDLLOVERRIDES="mscoree,mshtml=",
     )
-    return env
+    yield env
+    # the Wine server outlives its last program by a few seconds: stop it with the session
+    subprocess.run(["wineserver", "-k"], env=env, capture_output=True)
 
 
 # --------------------------------------------------------------------------------------------------------
