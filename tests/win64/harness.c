@@ -220,8 +220,8 @@ static Status run_line(int slot, int n, char **t, char *out, size_t out_size) {
         if (!strcmp(cmd, "set_boolean")) return FN(FSetI, "fmi2SetBoolean")(c, vrs, m, iv);
         if (!strcmp(cmd, "set_string")) return FN(FSetS, "fmi2SetString")(c, vrs, m, sv);
     }
-    if (!strncmp(cmd, "get_", 4) && nv >= 0 && (!strcmp(cmd, "get_real") || !strcmp(cmd, "get_integer") ||
-                                               !strcmp(cmd, "get_boolean") || !strcmp(cmd, "get_string"))) {
+    if (!strcmp(cmd, "get_real") || !strcmp(cmd, "get_integer") || !strcmp(cmd, "get_boolean") ||
+        !strcmp(cmd, "get_string")) {
         double r[MAX_VALUES];
         int iv[MAX_VALUES];
         const char *sv[MAX_VALUES] = {0};

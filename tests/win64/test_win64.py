@@ -709,13 +709,13 @@ def test_states_cross_platforms(runs):
         sub = Plan((main.guid, main.variables), None)
         sub.lines, sub.checks = main.lines[a:b], main.checks[a:b]
         assert [line.split()[1:] for line in resume.lines[c:d]] == [line.split()[1:] for line in sub.lines]
-        for own, restored, paths in (
-            (linux_main[a:b], windows_resume[c:d], (linux_paths, windows_paths)),
-            (windows_main[a:b], linux_resume[c:d], (windows_paths, linux_paths)),
+        for direction, own, restored, paths in (
+            ("linux-to-windows", linux_main[a:b], windows_resume[c:d], (linux_paths, windows_paths)),
+            ("windows-to-linux", windows_main[a:b], linux_resume[c:d], (windows_paths, linux_paths)),
         ):
             problems, stats = compare(sub, own, restored, paths)
             assert not problems, "\n".join(problems[:20])
-        report(f"state-{name}", stats)
+            report(f"state-{name}-{direction}", stats["table" if name == "table" else "exact"])
     # the restored warm start matters: without it the exact solver's outputs differ by more than the tolerance
     (a, b), (c, d) = resume.marks["continued-exact"], resume.marks["cold-exact"]
     sub = Plan((main.guid, main.variables), None)
