@@ -509,7 +509,7 @@ mod tests {
         force.max(max_abs_diff(&fa.temperature, &fb.temperature) / rise)
     }
 
-    /// Warm MBS steps (issue 14): each ends after 2 or 3 outer iterations, stopped by the a-posteriori
+    /// Warm MBS steps: each ends after 2 or 3 outer iterations, stopped by the a-posteriori
     /// estimate of the contraction (without it, 3 or 4), and agrees with the cold solve and with a
     /// solve converged to 1e-12 within the solver tolerance 1e-6 (forces over F_N, temperatures over
     /// the largest rise), dry and wet.

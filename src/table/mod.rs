@@ -1,4 +1,4 @@
-//! Tabulation mode (issues 5 and 13): the exact model precomputed on a grid of operating points and contact
+//! Tabulation mode: the exact model precomputed on a grid of operating points and contact
 //! geometries for one parameter set, stored as `.npy` arrays with a JSON sidecar, and interpolated at run
 //! time.
 //!
@@ -444,7 +444,7 @@ impl Table {
         PROBE_TOLERANCE[o] + half_step
     }
 
-    /// Proof that the present model computed this table (issue 16): the exact solver solves the
+    /// Proof that the present model computed this table: the exact solver solves the
     /// [`Table::probe_nodes`] cold and must reproduce the stored outputs (measured on the default table,
     /// 200 nodes: within 1.5e-8 for F/F_N, M_z/(F_N·c), the fluid load fraction and P_f/(F_N·V) and 3e-5 K for
     /// T_max, f32 storage included; the tolerances [`PROBE_TOLERANCE`] leave a factor 60 or more). A table
@@ -2825,7 +2825,7 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
-    /// A table whose values another model computed is refused at loading (issue 16): its probe nodes no
+    /// A table whose values another model computed is refused at loading: its probe nodes no
     /// longer match the exact solver. Here the "other model" is the present one with the forces 1e-4·F_N
     /// larger (as a change of the friction model would make them), the files otherwise consistent.
     #[test]
