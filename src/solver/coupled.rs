@@ -58,8 +58,9 @@ pub(crate) fn solve_cached(
 ) -> Result<Solution> {
     point.validate()?;
     let (hertz, mat0, kalker, creep) = contact_of(params, point, cache)?;
-    if params.friction.law == FrictionLaw::Polach {
-        return solve_polach(params, point, &hertz, &kalker, creep);
+    match params.friction.law {
+        FrictionLaw::Polach => return solve_polach(params, point, &hertz, &kalker, creep),
+        FrictionLaw::Tomberger | FrictionLaw::Constant => {}
     }
     let setup = Setup::new(params, point, hertz, &mat0, &kalker, creep, cache)?;
     let iterate = Coupled::start(&setup, warm).run()?;

@@ -102,8 +102,9 @@ pub fn normalised(s: &Solution, point: &OperatingPoint, radius: f64) -> Result<[
 /// moment, the temperature and the fluid load share (the closed-form Polach law costs microseconds and
 /// needs no table).
 fn check_law(params: &Params) -> Result<()> {
-    if params.friction.law == FrictionLaw::Tomberger {
-        return Ok(());
+    match params.friction.law {
+        FrictionLaw::Tomberger => return Ok(()),
+        FrictionLaw::Constant | FrictionLaw::Polach => {}
     }
     Err(Error::OutOfRange {
         name: "friction.law".into(),

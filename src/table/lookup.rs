@@ -164,9 +164,56 @@ impl Table {
     /// mirrored axes read the mirror-image point (φ̂ index reversed by the η mirror, which also reverses the
     /// φ̂ slope) with the symmetry's output signs. Next to an unresolved cell along η̂ or ξ̂ (a jump of the
     /// model) the spline takes the one-sided slope at the shared node: the window node beyond is replaced by
-    /// the extrapolation of the cell's secant ([`interp::CubicStencil::beyond`]; docs/model.md §12.3).
+    /// the extrapolation of the cell's secant ([`super::interp::CubicStencil::beyond`]; docs/model.md §12.3).
     #[inline(always)]
     pub(super) fn core<const JAC: bool, const K: u8>(&self, q: &[f64; DIMS]) -> Core {
+        const L: usize = LINEAR_DIMS;
+        let window = self.window(q);
+        let (cx, cy, flags) = (window.cx, window.cy, window.flags);
+        let resolved = flags & UNRESOLVED == 0;
+        // stages 0 and 1: values [j][i·OUTPUTS + o] after φ (the layout of the η stage's lanes), with
+        // derivatives [i][j][o][F_N, V, w, a/b, p_ref, φ]
+        // (the derivatives only with the Jacobian: a value does not clear their 4.6 kB)
+        let mut c1 = [[0.0; 4 * OUTPUTS]; 4];
+        let mut t1_rows;
+        let t1: &mut [[[[f64; L + 1]; OUTPUTS]; 4]] = if JAC {
+            t1_rows = [[[[0.0; L + 1]; OUTPUTS]; 4]; 4];
+            &mut t1_rows
+        } else {
+            &mut []
+        };
+        let converged = self.phi_stage::<JAC, K>(&window, &mut c1, t1);
+        // next to a cell that holds a jump of the model (unresolved), the spline of this cell takes the
+        // one-sided slope at the shared node: the window's node beyond is replaced by the extrapolation of
+        // this cell's secant (its values, and with the Jacobian their derivatives)
+        // (the cell's flags say which neighbours are unresolved: [`beside_unresolved`]; out of line, so that
+        // the common path compiles as without)
+        if flags & BESIDE_ETA != 0 {
+            one_sided(&cy, BESIDE_UNRESOLVED[1], flags, &mut c1, t1);
+        }
+        // stage 2: along η, all 4·OUTPUTS fibres at once; derivatives (F_N, V, w, a/b, p_ref, φ, η)
+        let (mut c2, mut t2) = eta_stage::<JAC>(&cy, &c1, t1);
+        if flags & BESIDE_XI != 0 {
+            let derivatives = if JAC {
+                std::slice::from_mut(&mut t2)
+            } else {
+                &mut []
+            };
+            one_sided(&cx, BESIDE_UNRESOLVED[0], flags, &mut c2, derivatives);
+        }
+        // stage 3: along ξ
+        let (v, d) = xi_stage::<JAC>(&cx, &c2, &t2);
+        Core {
+            v,
+            d,
+            converged,
+            resolved,
+        }
+    }
+
+    /// The lookup's [`Window`] at stored-quadrant coordinates `q`, and whether it prefetches (`core`).
+    #[inline(always)]
+    fn window(&self, q: &[f64; DIMS]) -> Window {
         const L: usize = LINEAR_DIMS;
         let cx = self.interp[XI].cubic(q[XI]);
         let cy = self.interp[ETA].cubic(q[ETA]);
@@ -201,7 +248,44 @@ impl Table {
             let key = (rows_id(&self.rows), cell);
             LAST_CELL.with(|last| last.replace(key) != key)
         };
-        let resolved = flags & UNRESOLVED == 0;
+        Window {
+            cx,
+            cy,
+            k0,
+            hw,
+            hdw,
+            fractions,
+            linear_strides,
+            n_phi,
+            flags,
+            prefetch,
+        }
+    }
+
+    /// Stages 0 and 1 of `core` (the linear corners, then the cubic Hermite along φ̂) at the 4 × 4 (ξ̂, η̂)
+    /// points of `window`: the values `c1` [j][i·OUTPUTS + o] and, with the Jacobian, their derivatives `t1`
+    /// [i][j][o][F_N, V, w, a/b, p_ref, φ]; whether every point the values depend on converged.
+    #[inline(always)]
+    fn phi_stage<const JAC: bool, const K: u8>(
+        &self,
+        window: &Window,
+        c1: &mut [[f64; 4 * OUTPUTS]; 4],
+        t1: &mut [PhiDerivatives],
+    ) -> bool {
+        const L: usize = LINEAR_DIMS;
+        let Window {
+            cx,
+            cy,
+            k0,
+            hw,
+            hdw,
+            fractions,
+            linear_strides,
+            n_phi,
+            flags,
+            prefetch,
+        } = *window;
+        let st = &self.strides;
         // whether the cell's stencil holds an unconverged point: then which corners of non-zero weight do
         let check_converged = flags & NEAR_UNCONVERGED != 0;
         // the linear corners' row offsets from the creepage node and weights (with the Jacobian, also the
@@ -224,17 +308,6 @@ impl Table {
         // for the lower and the upper row in memory: reversed on a ghost η̂ node (index 1)
         let ends = [[hw[0], hw[0], hw[1], hw[1]], [hw[2], hw[2], hw[3], hw[3]]];
         let hermite = [ends, [ends[1], ends[0]]];
-        // stages 0 and 1: values [j][i·OUTPUTS + o] after φ (the layout of the η stage's lanes), with
-        // derivatives [i][j][o][F_N, V, w, a/b, p_ref, φ]
-        // (the derivatives only with the Jacobian: a value does not clear their 4.6 kB)
-        let mut c1 = [[0.0; 4 * OUTPUTS]; 4];
-        let mut t1_rows;
-        let t1: &mut [[[[f64; L + 1]; OUTPUTS]; 4]] = if JAC {
-            t1_rows = [[[[0.0; L + 1]; OUTPUTS]; 4]; 4];
-            &mut t1_rows
-        } else {
-            &mut []
-        };
         let mut converged = true;
         // prefetch the corner rows of ξ window node i + 1 (all η, both φ ends) while node i is computed: on a
         // table far larger than the caches the loads then find their lines on the way
@@ -327,66 +400,89 @@ impl Table {
                 }
             }
         }
-        // next to a cell that holds a jump of the model (unresolved), the spline of this cell takes the
-        // one-sided slope at the shared node: the window's node beyond is replaced by the extrapolation of
-        // this cell's secant (its values, and with the Jacobian their derivatives)
-        // (the cell's flags say which neighbours are unresolved: [`beside_unresolved`]; out of line, so that
-        // the common path compiles as without)
-        if flags & BESIDE_ETA != 0 {
-            one_sided(&cy, BESIDE_UNRESOLVED[1], flags, &mut c1, t1);
-        }
-        // stage 2: along η, all 4·OUTPUTS fibres at once; derivatives (F_N, V, w, a/b, p_ref, φ, η)
-        let mut c2 = [[0.0; OUTPUTS]; 4];
-        let mut t2 = [[[0.0; L + 2]; OUTPUTS]; 4];
-        if JAC {
-            for i in 0..4 {
-                for o in 0..OUTPUTS {
-                    let f = cy.eval(&std::array::from_fn(|j| c1[j][i * OUTPUTS + o]));
-                    c2[i][o] = f.v;
-                    for a in 0..=L {
-                        t2[i][o][a] = (0..4).map(|j| f.w[j] * t1[i][j][o][a]).sum();
-                    }
-                    t2[i][o][L + 1] = f.dv;
-                }
-            }
-        } else {
-            let flat = cy.value(&c1);
-            for (i, c) in c2.iter_mut().enumerate() {
-                c.copy_from_slice(&flat[i * OUTPUTS..(i + 1) * OUTPUTS]);
-            }
-        }
-        if flags & BESIDE_XI != 0 {
-            let derivatives = if JAC {
-                std::slice::from_mut(&mut t2)
-            } else {
-                &mut []
-            };
-            one_sided(&cx, BESIDE_UNRESOLVED[0], flags, &mut c2, derivatives);
-        }
-        // stage 3: along ξ
-        let mut v = [0.0; OUTPUTS];
-        let mut d = [[0.0; DIMS]; OUTPUTS];
-        if JAC {
+        converged
+    }
+}
+
+/// The derivatives of one ξ̂ window node's φ̂-stage values (`Table::core`): [j][o][F_N, V, w, a/b, p_ref, φ].
+type PhiDerivatives = [[[f64; LINEAR_DIMS + 1]; OUTPUTS]; 4];
+
+/// Where a lookup lies (`Table::core`): the cubic windows along ξ̂ (`cx`) and η̂ (`cy`), the φ̂ interval's
+/// lower node `k0` and its Hermite weights `hw` and their derivatives `hdw`, the fractions and row strides
+/// of the linear dimensions (F_N, V, w, a/b, p_ref), the number of φ̂ nodes, the flags of the cell and
+/// whether the lookup prefetches the rows of the next ξ̂ node.
+#[derive(Clone, Copy)]
+struct Window {
+    cx: CubicStencil,
+    cy: CubicStencil,
+    k0: isize,
+    hw: [f64; 4],
+    hdw: [f64; 4],
+    fractions: [Fraction; LINEAR_DIMS],
+    linear_strides: [usize; LINEAR_DIMS],
+    n_phi: isize,
+    flags: u8,
+    prefetch: bool,
+}
+
+/// Stage 2 of `Table::core`: the splines along η̂ of the φ̂-stage values `c1` (and their derivatives `t1`
+/// with the Jacobian), all 4·OUTPUTS fibres at once; the values per ξ̂ node and output, with derivatives
+/// (F_N, V, w, a/b, p_ref, φ, η).
+#[inline(always)]
+fn eta_stage<const JAC: bool>(
+    cy: &CubicStencil,
+    c1: &[[f64; 4 * OUTPUTS]; 4],
+    t1: &[PhiDerivatives],
+) -> ([[f64; OUTPUTS]; 4], [[[f64; LINEAR_DIMS + 2]; OUTPUTS]; 4]) {
+    const L: usize = LINEAR_DIMS;
+    let mut c2 = [[0.0; OUTPUTS]; 4];
+    let mut t2 = [[[0.0; L + 2]; OUTPUTS]; 4];
+    if JAC {
+        for i in 0..4 {
             for o in 0..OUTPUTS {
-                let f = cx.eval(&std::array::from_fn(|i| c2[i][o]));
-                v[o] = f.v;
-                let t: [f64; L + 2] =
-                    std::array::from_fn(|a| (0..4).map(|i| f.w[i] * t2[i][o][a]).sum());
-                d[o][XI] = f.dv;
-                d[o][ETA] = t[L + 1];
-                d[o][PHI] = t[L];
-                d[o][FORCE..].copy_from_slice(&t[..L]);
+                let f = cy.eval(&std::array::from_fn(|j| c1[j][i * OUTPUTS + o]));
+                c2[i][o] = f.v;
+                for a in 0..=L {
+                    t2[i][o][a] = (0..4).map(|j| f.w[j] * t1[i][j][o][a]).sum();
+                }
+                t2[i][o][L + 1] = f.dv;
             }
-        } else {
-            v = cx.value(&c2);
         }
-        Core {
-            v,
-            d,
-            converged,
-            resolved,
+    } else {
+        let flat = cy.value(&c1);
+        for (i, c) in c2.iter_mut().enumerate() {
+            c.copy_from_slice(&flat[i * OUTPUTS..(i + 1) * OUTPUTS]);
         }
     }
+    (c2, t2)
+}
+
+/// Stage 3 of `Table::core`: the splines along ξ̂ of the η̂-stage values `c2` (and their derivatives `t2`
+/// with the Jacobian): the outputs and their derivatives by the coordinates.
+#[inline(always)]
+fn xi_stage<const JAC: bool>(
+    cx: &CubicStencil,
+    c2: &[[f64; OUTPUTS]; 4],
+    t2: &[[[f64; LINEAR_DIMS + 2]; OUTPUTS]; 4],
+) -> ([f64; OUTPUTS], [[f64; DIMS]; OUTPUTS]) {
+    const L: usize = LINEAR_DIMS;
+    let mut v = [0.0; OUTPUTS];
+    let mut d = [[0.0; DIMS]; OUTPUTS];
+    if JAC {
+        for o in 0..OUTPUTS {
+            let f = cx.eval(&std::array::from_fn(|i| c2[i][o]));
+            v[o] = f.v;
+            let t: [f64; L + 2] =
+                std::array::from_fn(|a| (0..4).map(|i| f.w[i] * t2[i][o][a]).sum());
+            d[o][XI] = f.dv;
+            d[o][ETA] = t[L + 1];
+            d[o][PHI] = t[L];
+            d[o][FORCE..].copy_from_slice(&t[..L]);
+        }
+    } else {
+        v = cx.value(&c2);
+    }
+    (v, d)
 }
 
 /// The one-sided slopes of a cubic stage next to unresolved cells (`core`): in the window values `values`
