@@ -10,16 +10,18 @@
 //! exact solver, lifted wheel, rolling backwards, standstill); `model` describes the data path of one
 //! evaluation.
 
+#![warn(missing_docs)]
+
 pub mod baselines;
 pub mod contact;
 pub mod error;
 pub mod fluid;
-pub mod friction;
-pub mod materials;
+pub(crate) mod friction;
+pub(crate) mod materials;
 pub mod microcontact;
 pub mod model;
 pub mod params;
-pub mod quadrature;
+pub(crate) mod quadrature;
 pub mod solver;
 pub mod table;
 pub mod tangential;

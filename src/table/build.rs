@@ -411,7 +411,7 @@ pub fn build(
 
 /// A table of values given by a function of the table coordinates (ξ̂, η̂, φ̂, F_N, V, w, a/b, p_ref) instead
 /// of the exact solver, every point marked converged: synthetic tables for tests and benchmarks.
-pub fn tabulate(
+pub(crate) fn tabulate(
     params: &Params,
     axes: &Axes,
     f: &dyn Fn(&[f64; DIMS]) -> [f64; OUTPUTS],

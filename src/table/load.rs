@@ -174,7 +174,7 @@ impl Table {
     /// computed by a model whose physics has changed since (a different film transport, friction law,
     /// default, …) is refused with the node and the values, so that it is rebuilt: a few exact solves per
     /// load (milliseconds each).
-    pub fn check_probes(&self) -> Result<()> {
+    pub(crate) fn check_probes(&self) -> Result<()> {
         for n in self.probe_nodes() {
             let (point, e, want) = self.exact_at_node(n)?;
             let mut stored = self.rows[memory_index(&self.axes.shape(), &self.strides, n)].0;

@@ -22,7 +22,7 @@ pub mod build;
 pub mod coords;
 pub mod file;
 pub mod heating;
-pub mod interp;
+pub(crate) mod interp;
 pub mod rise;
 pub mod verify;
 
@@ -33,11 +33,9 @@ mod load;
 mod lookup;
 #[cfg(test)]
 mod testing;
-#[cfg(test)]
-mod tests;
 
 pub use axes::{Axes, AxesSpec, Axis, AxisSpec, DIMENSIONS, DIMS, Interpolation, Spacing};
-pub use build::{build, is_built, merge, solve_with_retry, tabulate};
+pub use build::{build, is_built, merge, solve_with_retry};
 pub use coords::{Coordinates, Ellipse};
 pub use file::{
     FilmIntake, OUTPUT_INFO, OUTPUTS, Quantization, Resolution, ShardRecord, Sidecar, Storage,
@@ -160,11 +158,11 @@ pub const JACOBIAN_ROWS: usize = 6;
 pub const JUMP_SPREAD: f64 = 300.0;
 
 /// Number of nodes a loaded table is checked at ([`Table::check_probes`]).
-pub const PROBES: usize = 3;
+pub(crate) const PROBES: usize = 3;
 
 /// Largest difference allowed between a stored output at a probe node and the present exact solver, per
 /// output (F_x/F_N, F_y/F_N, M_z/(F_N·c), T_max [K], fluid load fraction, P_f/(F_N·V)).
-pub const PROBE_TOLERANCE: [f64; OUTPUTS] = [1e-6, 1e-6, 1e-6, 1e-3, 1e-6, 1e-6];
+pub(crate) const PROBE_TOLERANCE: [f64; OUTPUTS] = [1e-6, 1e-6, 1e-6, 1e-3, 1e-6, 1e-6];
 
 /// A loaded table, read-only.
 pub struct Table {
@@ -285,7 +283,7 @@ impl Table {
     }
 
     /// The error of a contact `e` at `force` [N] outside the table's geometry axes.
-    pub fn outside_geometry(&self, e: &Ellipse, force: f64) -> Error {
+    pub(crate) fn outside_geometry(&self, e: &Ellipse, force: f64) -> Error {
         let range = |d: usize| {
             let a = &self.axes.0[d];
             format!("{} {} to {}", DIMENSIONS[d].symbol, a.min(), a.max())
@@ -320,7 +318,7 @@ impl Table {
 
     /// [`Table::evaluate`] where the table covers the contact `e` at the point's normal force, None where
     /// it does not ([`Table::covers`]): the contact's geometry coordinates are computed once for both.
-    pub fn evaluate_covered(
+    pub(crate) fn evaluate_covered(
         &self,
         point: &OperatingPoint,
         e: &Ellipse,
@@ -329,7 +327,7 @@ impl Table {
     }
 
     /// [`Table::evaluate_covered`] plus the Jacobian of the interpolant.
-    pub fn evaluate_covered_with_jacobian(
+    pub(crate) fn evaluate_covered_with_jacobian(
         &self,
         point: &OperatingPoint,
         e: &Ellipse,
@@ -391,3 +389,6 @@ pub fn other_parameters(table: &Table, params: &Params) -> Error {
         given: file::fingerprint(params),
     }
 }
+
+#[cfg(test)]
+mod tests;

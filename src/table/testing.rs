@@ -1,8 +1,9 @@
 //! Tables and axes for the library's tests.
 
+use super::Table;
 use super::axes::{Axes, AxesSpec, AxisSpec, DIMS, XI};
+use super::build::tabulate;
 use super::file::OUTPUTS;
-use super::{Table, tabulate};
 use crate::params::Params;
 
 /// A table in memory from node values `f(coordinates) -> outputs` (for tests).

@@ -1,4 +1,5 @@
 use super::axes::*;
+use super::build::tabulate;
 use super::flags::*;
 use super::interp::Corners;
 use super::kernel::*;
