@@ -131,6 +131,32 @@ impl Table {
     }
 
     /// Loads and verifies the table in directory `dir` (see [`file`] for what is checked).
+    ///
+    /// # Example
+    ///
+    /// The table bundled with the FMU covers 10–200 kN and 1–100 m/s for the default parameters; loading
+    /// re-solves its probe nodes, so a table the present model did not compute is refused. At zero
+    /// creepage the contact transmits no tangential force: the table's ξ and η axes are mirrored
+    /// (F_x odd in ξ, F_y odd in η), so F_x = F_y = 0 there exactly.
+    ///
+    /// ```
+    /// use std::path::Path;
+    /// use wheelrail::table::{Ellipse, Table};
+    /// use wheelrail::{OperatingPoint, Params};
+    /// let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fmu/resources/table");
+    /// let table = Table::load(&dir)?;
+    /// assert!(table.matches(&Params::default()));
+    /// let forces = &table.axes().0[3].points;
+    /// assert_eq!((forces[0], *forces.last().unwrap()), (10e3, 200e3));
+    ///
+    /// let point = OperatingPoint { creepage_x: 0.0, creepage_y: 0.0, spin: 0.0, ..OperatingPoint::default() };
+    /// let hertz = wheelrail::solver::normal_contact(table.params(), point.normal_force)?;
+    /// let e = Ellipse { a: hertz.a, b: hertz.b, load_exponent: Ellipse::HERTZ };
+    /// let out = table.evaluate(&point, &e)?;
+    /// assert!(out.in_range);
+    /// assert_eq!((out.force_x, out.force_y), (0.0, 0.0));
+    /// # Ok::<(), wheelrail::Error>(())
+    /// ```
     pub fn load(dir: &Path) -> Result<Table> {
         let t = Table::from_files(TableFiles::read(dir)?, Some(dir))?;
         t.check_probes()?;
