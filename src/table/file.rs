@@ -961,7 +961,7 @@ fn array_shape(sidecar: &Sidecar, axes: &Axes, side_path: &Path) -> Result<Vec<u
                     format!("invalid shard {}/{}", s.index, s.count),
                 ));
             }
-            vec![shard_len(&axes, s)]
+            vec![shard_len(axes, s)]
         }
         None if sidecar.format_version == 1 => axes.shape()[..RATIO].to_vec(),
         None => axes.shape().to_vec(),

@@ -449,7 +449,7 @@ fn eta_stage<const JAC: bool>(
             }
         }
     } else {
-        let flat = cy.value(&c1);
+        let flat = cy.value(c1);
         for (i, c) in c2.iter_mut().enumerate() {
             c.copy_from_slice(&flat[i * OUTPUTS..(i + 1) * OUTPUTS]);
         }
@@ -480,7 +480,7 @@ fn xi_stage<const JAC: bool>(
             d[o][FORCE..].copy_from_slice(&t[..L]);
         }
     } else {
-        v = cx.value(&c2);
+        v = cx.value(c2);
     }
     (v, d)
 }

@@ -7,7 +7,6 @@ use super::file::OUTPUTS;
 use crate::params::Params;
 
 /// A table in memory from node values `f(coordinates) -> outputs` (for tests).
-
 pub(crate) fn synthetic(
     axes: &Axes,
     params: &Params,
@@ -18,7 +17,6 @@ pub(crate) fn synthetic(
 
 /// Axes with explicit points per dimension (ξ̂, η̂, φ̂, F_N, V, w, a/b, p_ref), ξ̂ mirrored (stored ξ̂ ≥ 0),
 /// raw limits of the creepages `raw`.
-
 pub(super) fn explicit_axes(points: [&[f64]; DIMS], raw: [f64; 3]) -> Axes {
     let spec = |d: usize| {
         Some(AxisSpec {
@@ -44,7 +42,6 @@ pub(super) fn explicit_axes(points: [&[f64]; DIMS], raw: [f64; 3]) -> Axes {
 /// The axes of the small test table `tests/fixtures/small-axes.toml` (1152 points around the default
 /// operating point and contact), which the FMU's and the command line's tests and benchmarks read from the
 /// file.
-
 pub(crate) fn small_axes() -> Axes {
     let spec: AxesSpec = toml::from_str(include_str!("../../tests/fixtures/small-axes.toml"))
         .expect("the fixture is an axes file");
@@ -53,7 +50,6 @@ pub(crate) fn small_axes() -> Axes {
 
 /// The default parameters on a coarse 6 × 6 grid: a table over [`tiny_axes`] builds in a fraction of a
 /// second.
-
 pub(crate) fn coarse_params() -> Params {
     let mut p = Params::default();
     p.grid.nx = 6;
@@ -64,7 +60,6 @@ pub(crate) fn coarse_params() -> Params {
 /// Small valid axes (3·3·4·2·2·2·2·2 = 1152 points) around the default contact (a/b ≈ 0.56, p_ref ≈
 /// 0.77 GPa), wider than [`small_axes`]: ξ̂ ≤ 10 (|ξ| up to about 5 %), η̂ ≤ 4 (|η| ≤ 2 %), |φ̂| ≤ 0.5
 /// (|φ| up to about 1.4 /m).
-
 pub(crate) fn tiny_axes() -> Axes {
     explicit_axes(
         [
