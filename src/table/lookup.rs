@@ -276,14 +276,13 @@ impl Table {
         let Window {
             cx,
             cy,
-            k0,
             hw,
             hdw,
             fractions,
             linear_strides,
-            n_phi,
             flags,
             prefetch,
+            ..
         } = *window;
         let st = &self.strides;
         // whether the cell's stencil holds an unconverged point: then which corners of non-zero weight do
@@ -301,42 +300,14 @@ impl Table {
         let (off, wl) = (&stencil.off[..stencil.n], &stencil.w[..stencil.n]);
         let max_off = stencil.farthest();
         let rows = &self.rows[..];
-        // the lower φ̂ node of the interval at a window point: k0, or on a ghost η̂ node (φ̂ reversed) the
-        // mirror image of k0 + 1, n_φ − 2 − k0, so that the φ̂ ends run backwards
-        let lower = |fy: bool| if fy { n_phi - 2 - k0 } else { k0 } as usize;
         // the Hermite weights of node k0 and k0 + 1 per lane of a row vector ([value, value, slope, slope]),
         // for the lower and the upper row in memory: reversed on a ghost η̂ node (index 1)
         let ends = [[hw[0], hw[0], hw[1], hw[1]], [hw[2], hw[2], hw[3], hw[3]]];
         let hermite = [ends, [ends[1], ends[0]]];
         let mut converged = true;
-        // prefetch the corner rows of ξ window node i + 1 (all η, both φ ends) while node i is computed: on a
-        // table far larger than the caches the loads then find their lines on the way
-        let prefetch_node = |i: isize| {
-            #[cfg(target_arch = "x86_64")]
-            {
-                use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-                let p0 = rows.as_ptr().cast::<i8>();
-                let ii = (cx.start + i).unsigned_abs();
-                for j in 0..4 {
-                    let gj = cy.start + j as isize;
-                    let base = ii * st[XI] + gj.unsigned_abs() * st[ETA] + lower(gj < 0);
-                    for o in off {
-                        let ptr = p0.wrapping_add((base + *o) * std::mem::size_of::<Row>());
-                        // SAFETY: a prefetch is only a hint: it never faults and changes no memory
-                        // (the addresses are those of the corner's two rows in any case).
-                        unsafe {
-                            for line in [0, 2 * std::mem::size_of::<Row>() - 1] {
-                                _mm_prefetch::<_MM_HINT_T0>(ptr.wrapping_add(line));
-                            }
-                        }
-                    }
-                }
-            }
-        };
-
         for i in 0..4 {
             if prefetch && i < 3 {
-                prefetch_node(i as isize + 1);
+                self.prefetch_node(window, off, i as isize + 1);
             }
             let gi = cx.start + i as isize;
             let (ii, fx) = (gi.unsigned_abs(), gi < 0);
@@ -349,7 +320,7 @@ impl Table {
             for j in 0..4 {
                 let gj = cy.start + j as isize;
                 let (jj, fy) = (gj.unsigned_abs(), gj < 0);
-                bases[j] = ii * st[XI] + jj * st[ETA] + lower(fy);
+                bases[j] = ii * st[XI] + jj * st[ETA] + window.lower(fy);
                 hs[j] = Hermite {
                     ends: &hermite[usize::from(fy)],
                     signs: &SIGN_LANES[2 * usize::from(fx) + usize::from(fy)],
@@ -402,6 +373,36 @@ impl Table {
         }
         converged
     }
+
+    /// Prefetches the corner rows (`off` from each window point's first row) of ξ̂ window node `i` of
+    /// `window`, all η̂ and both φ̂ ends, while the node before it is computed (`phi_stage`): on a table far
+    /// larger than the caches the loads then find their lines on the way.
+    #[inline(always)]
+    fn prefetch_node(&self, window: &Window, off: &[usize], i: isize) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+            let st = &self.strides;
+            let p0 = self.rows.as_ptr().cast::<i8>();
+            let ii = (window.cx.start + i).unsigned_abs();
+            for j in 0..4 {
+                let gj = window.cy.start + j as isize;
+                let base = ii * st[XI] + gj.unsigned_abs() * st[ETA] + window.lower(gj < 0);
+                for o in off {
+                    let ptr = p0.wrapping_add((base + *o) * std::mem::size_of::<Row>());
+                    // SAFETY: a prefetch is only a hint: it never faults and changes no memory
+                    // (the addresses are those of the corner's two rows in any case).
+                    unsafe {
+                        for line in [0, 2 * std::mem::size_of::<Row>() - 1] {
+                            _mm_prefetch::<_MM_HINT_T0>(ptr.wrapping_add(line));
+                        }
+                    }
+                }
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = (window, off, i);
+    }
 }
 
 /// The derivatives of one ξ̂ window node's φ̂-stage values (`Table::core`): [j][o][F_N, V, w, a/b, p_ref, φ].
@@ -423,6 +424,19 @@ struct Window {
     n_phi: isize,
     flags: u8,
     prefetch: bool,
+}
+
+impl Window {
+    /// The lower φ̂ node of the interval at a window point: k0, or on a ghost η̂ node (`fy`: φ̂ reversed)
+    /// the mirror image of k0 + 1, n_φ − 2 − k0, so that the φ̂ ends run backwards.
+    #[inline(always)]
+    fn lower(&self, fy: bool) -> usize {
+        (if fy {
+            self.n_phi - 2 - self.k0
+        } else {
+            self.k0
+        }) as usize
+    }
 }
 
 /// Stage 2 of `Table::core`: the splines along η̂ of the φ̂-stage values `c1` (and their derivatives `t1`
