@@ -192,7 +192,9 @@ impl Table {
             one_sided(&cy, BESIDE_UNRESOLVED[1], flags, &mut c1, t1);
         }
         // stage 2: along η, all 4·OUTPUTS fibres at once; derivatives (F_N, V, w, a/b, p_ref, φ, η)
-        let (mut c2, mut t2) = eta_stage::<JAC>(&cy, &c1, t1);
+        let mut c2 = [[0.0; OUTPUTS]; 4];
+        let mut t2 = [[[0.0; L + 2]; OUTPUTS]; 4];
+        eta_stage::<JAC>(&cy, &c1, t1, &mut c2, &mut t2);
         if flags & BESIDE_XI != 0 {
             let derivatives = if JAC {
                 std::slice::from_mut(&mut t2)
@@ -202,7 +204,9 @@ impl Table {
             one_sided(&cx, BESIDE_UNRESOLVED[0], flags, &mut c2, derivatives);
         }
         // stage 3: along ξ
-        let (v, d) = xi_stage::<JAC>(&cx, &c2, &t2);
+        let mut v = [0.0; OUTPUTS];
+        let mut d = [[0.0; DIMS]; OUTPUTS];
+        xi_stage::<JAC>(&cx, &c2, &t2, &mut v, &mut d);
         Core {
             v,
             d,
@@ -408,6 +412,9 @@ impl Table {
 /// The derivatives of one ξ̂ window node's φ̂-stage values (`Table::core`): [j][o][F_N, V, w, a/b, p_ref, φ].
 type PhiDerivatives = [[[f64; LINEAR_DIMS + 1]; OUTPUTS]; 4];
 
+/// The derivatives of the η̂-stage values (`Table::core`): [i][o][F_N, V, w, a/b, p_ref, φ, η].
+type EtaDerivatives = [[[f64; LINEAR_DIMS + 2]; OUTPUTS]; 4];
+
 /// Where a lookup lies (`Table::core`): the cubic windows along ξ̂ (`cx`) and η̂ (`cy`), the φ̂ interval's
 /// lower node `k0` and its Hermite weights `hw` and their derivatives `hdw`, the fractions and row strides
 /// of the linear dimensions (F_N, V, w, a/b, p_ref), the number of φ̂ nodes, the flags of the cell and
@@ -440,17 +447,17 @@ impl Window {
 }
 
 /// Stage 2 of `Table::core`: the splines along η̂ of the φ̂-stage values `c1` (and their derivatives `t1`
-/// with the Jacobian), all 4·OUTPUTS fibres at once; the values per ξ̂ node and output, with derivatives
-/// (F_N, V, w, a/b, p_ref, φ, η).
+/// with the Jacobian), all 4·OUTPUTS fibres at once, into the values per ξ̂ node and output `c2` and their
+/// derivatives `t2` (F_N, V, w, a/b, p_ref, φ, η).
 #[inline(always)]
 fn eta_stage<const JAC: bool>(
     cy: &CubicStencil,
     c1: &[[f64; 4 * OUTPUTS]; 4],
     t1: &[PhiDerivatives],
-) -> ([[f64; OUTPUTS]; 4], [[[f64; LINEAR_DIMS + 2]; OUTPUTS]; 4]) {
+    c2: &mut [[f64; OUTPUTS]; 4],
+    t2: &mut EtaDerivatives,
+) {
     const L: usize = LINEAR_DIMS;
-    let mut c2 = [[0.0; OUTPUTS]; 4];
-    let mut t2 = [[[0.0; L + 2]; OUTPUTS]; 4];
     if JAC {
         for i in 0..4 {
             for o in 0..OUTPUTS {
@@ -468,20 +475,19 @@ fn eta_stage<const JAC: bool>(
             c.copy_from_slice(&flat[i * OUTPUTS..(i + 1) * OUTPUTS]);
         }
     }
-    (c2, t2)
 }
 
 /// Stage 3 of `Table::core`: the splines along ξ̂ of the η̂-stage values `c2` (and their derivatives `t2`
-/// with the Jacobian): the outputs and their derivatives by the coordinates.
+/// with the Jacobian), into the outputs `v` and their derivatives by the coordinates `d`.
 #[inline(always)]
 fn xi_stage<const JAC: bool>(
     cx: &CubicStencil,
     c2: &[[f64; OUTPUTS]; 4],
-    t2: &[[[f64; LINEAR_DIMS + 2]; OUTPUTS]; 4],
-) -> ([f64; OUTPUTS], [[f64; DIMS]; OUTPUTS]) {
+    t2: &EtaDerivatives,
+    v: &mut [f64; OUTPUTS],
+    d: &mut [[f64; DIMS]; OUTPUTS],
+) {
     const L: usize = LINEAR_DIMS;
-    let mut v = [0.0; OUTPUTS];
-    let mut d = [[0.0; DIMS]; OUTPUTS];
     if JAC {
         for o in 0..OUTPUTS {
             let f = cx.eval(&std::array::from_fn(|i| c2[i][o]));
@@ -494,9 +500,8 @@ fn xi_stage<const JAC: bool>(
             d[o][FORCE..].copy_from_slice(&t[..L]);
         }
     } else {
-        v = cx.value(c2);
+        *v = cx.value(c2);
     }
-    (v, d)
 }
 
 /// The one-sided slopes of a cubic stage next to unresolved cells (`core`): in the window values `values`
