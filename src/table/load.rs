@@ -49,69 +49,27 @@ impl Table {
         let rise = RiseVariable::new(&files.sidecar.params.material);
         let coordinates = Coordinates::new(&files.sidecar.params, &axes);
         let heating = heating::NodeFactors::new(&coordinates, &axes)?;
-        let mut rows = vec![Row::default(); len];
-        let mut converged = vec![0; len];
-        // the node's indices along the axes (the files' C order: the last axis fastest)
-        let mut idx = [0; DIMS];
-        for (i, m) in memory.iter().enumerate() {
-            for (o, v) in VAL.iter().enumerate() {
-                rows[*m].0[*v] = files.outputs[o][i];
-            }
-            // T_max is interpolated as G(T_max) (`rise`), the heat G and P_f/(F_N·V) per unit of the
-            // direction factor Λ (`heating`)
-            let lambda = heating.as_ref().map_or(1.0, |h| h.at(&idx));
-            rows[*m].0[VAL[3]] = (rise.of(f64::from(files.outputs[3][i])) / lambda) as f32;
-            rows[*m].0[VAL[5]] = (f64::from(files.outputs[5][i]) / lambda) as f32;
-            converged[*m] = files.converged[i];
-            for d in (0..DIMS).rev() {
-                idx[d] += 1;
-                if idx[d] < shape[d] {
-                    break;
-                }
-                idx[d] = 0;
-            }
-        }
-        // Steffen slopes along φ of every fibre (fixed ξ̂, η̂, F_N, V, w, a/b, p_ref; contiguous in memory;
-        // the padding is whole fibres of zeros)
-        // and output, computed in f64 from the stored values and kept in the stored precision (f32)
-        let phi = &axes.0[PHI].points;
-        let np = phi.len();
-        let (mut y, mut d) = (vec![0.0; np], vec![0.0; np]);
-        for fibre in rows.chunks_exact_mut(np) {
-            for o in 0..OUTPUTS {
-                for (v, r) in y.iter_mut().zip(fibre.iter()) {
-                    *v = f64::from(r.0[VAL[o]]);
-                }
-                interp::node_slopes(phi, &y, &mut d);
-                for (v, r) in d.iter().zip(fibre.iter_mut()) {
-                    r.0[SLOPE[o]] = *v as f32;
-                }
-            }
-        }
+        let (mut rows, converged) = node_rows(
+            &files.outputs,
+            &files.converged,
+            &shape,
+            &memory,
+            len,
+            &rise,
+            heating.as_ref(),
+        );
+        phi_slopes(&mut rows, &axes.0[PHI].points);
         let interp =
             std::array::from_fn(|d| AxisInterp::new(&axes.0[d], axes.0[d].interpolation(d)));
-        // the cells' flags in the files' order, then in memory order
-        let mut flags: Vec<u8> =
-            unresolved_cells(&shape, &files.outputs[3], files.film_intake.as_deref())
-                .iter()
-                .map(|u| UNRESOLVED * u)
-                .collect();
-        if files.converged.iter().any(|c| *c != 1) {
-            for (f, u) in flags
-                .iter_mut()
-                .zip(near_unconverged(&shape, &files.converged, &interp))
-            {
-                *f |= NEAR_UNCONVERGED * u;
-            }
-        }
-        beside_unresolved(&shape, &mut flags);
-        let mut cell_flags = Vec::new();
-        if flags.iter().any(|f| *f != 0) {
-            cell_flags = vec![0; len];
-            for (m, f) in memory.iter().zip(flags) {
-                cell_flags[*m] = f;
-            }
-        }
+        let cell_flags = cell_flags(
+            &shape,
+            &files.outputs[3],
+            &files.converged,
+            files.film_intake.as_deref(),
+            &interp,
+            &memory,
+            len,
+        );
         Ok(Table {
             cell_flags,
             bulk_temperature: files.sidecar.params.material.bulk_temperature,
@@ -265,6 +223,102 @@ impl Table {
         cache.insert(key, Arc::downgrade(&t));
         Ok(t)
     }
+}
+
+/// The rows in memory of a table's stored `outputs` (in the files' C order over the axes of `shape`; the
+/// files' point i in row `memory[i]` of `len`, padding included): T_max as G(T_max) (`rise`), the heat G and
+/// P_f/(F_N·V) per unit of the direction factor Λ (`heating`), the others as stored; and the points'
+/// converged flags (`converged_in`) in memory order.
+fn node_rows(
+    outputs: &[Vec<f32>],
+    converged_in: &[u8],
+    shape: &[usize; DIMS],
+    memory: &[usize],
+    len: usize,
+    rise: &RiseVariable,
+    heating: Option<&heating::NodeFactors>,
+) -> (Vec<Row>, Vec<u8>) {
+    let mut rows = vec![Row::default(); len];
+    let mut converged = vec![0; len];
+    // the node's indices along the axes (the files' C order: the last axis fastest)
+    let mut idx = [0; DIMS];
+    for (i, m) in memory.iter().enumerate() {
+        for (o, v) in VAL.iter().enumerate() {
+            rows[*m].0[*v] = outputs[o][i];
+        }
+        // T_max is interpolated as G(T_max) (`rise`), the heat G and P_f/(F_N·V) per unit of the
+        // direction factor Λ (`heating`)
+        let lambda = heating.map_or(1.0, |h| h.at(&idx));
+        rows[*m].0[VAL[3]] = (rise.of(f64::from(outputs[3][i])) / lambda) as f32;
+        rows[*m].0[VAL[5]] = (f64::from(outputs[5][i]) / lambda) as f32;
+        converged[*m] = converged_in[i];
+        for d in (0..DIMS).rev() {
+            idx[d] += 1;
+            if idx[d] < shape[d] {
+                break;
+            }
+            idx[d] = 0;
+        }
+    }
+    (rows, converged)
+}
+
+/// The Steffen slopes along φ̂ (`phi`: its points) of every fibre of `rows` and every output, into the rows'
+/// slope lanes.
+fn phi_slopes(rows: &mut [Row], phi: &[f64]) {
+    // Steffen slopes along φ of every fibre (fixed ξ̂, η̂, F_N, V, w, a/b, p_ref; contiguous in memory;
+    // the padding is whole fibres of zeros)
+    // and output, computed in f64 from the stored values and kept in the stored precision (f32)
+    let np = phi.len();
+    let (mut y, mut d) = (vec![0.0; np], vec![0.0; np]);
+    for fibre in rows.chunks_exact_mut(np) {
+        for o in 0..OUTPUTS {
+            for (v, r) in y.iter_mut().zip(fibre.iter()) {
+                *v = f64::from(r.0[VAL[o]]);
+            }
+            interp::node_slopes(phi, &y, &mut d);
+            for (v, r) in d.iter().zip(fibre.iter_mut()) {
+                r.0[SLOPE[o]] = *v as f32;
+            }
+        }
+    }
+}
+
+/// The cells' flags of a table of `shape` in memory order (`memory`, `len` as [`node_rows`]): from its
+/// stored T_max `t_max` and film-intake states `film` (unresolved cells), its points' `converged` flags
+/// (cells near unconverged points, through the interpolation rules `interp`) and the unresolved cells'
+/// neighbours; empty where no cell has a flag.
+fn cell_flags(
+    shape: &[usize; DIMS],
+    t_max: &[f32],
+    converged: &[u8],
+    film: Option<&[u8]>,
+    interp: &[AxisInterp; DIMS],
+    memory: &[usize],
+    len: usize,
+) -> Vec<u8> {
+    // the cells' flags in the files' order, then in memory order
+    let mut flags: Vec<u8> = unresolved_cells(shape, t_max, film)
+        .iter()
+        .map(|u| UNRESOLVED * u)
+        .collect();
+    if converged.iter().any(|c| *c != 1) {
+        for (f, u) in flags
+            .iter_mut()
+            .zip(near_unconverged(shape, converged, interp))
+        {
+            *f |= NEAR_UNCONVERGED * u;
+        }
+    }
+    beside_unresolved(shape, &mut flags);
+    let mut cell_flags = Vec::new();
+    if flags.iter().any(|f| *f != 0) {
+        cell_flags = vec![0; len];
+        for (m, f) in memory.iter().zip(flags) {
+            cell_flags[*m] = f;
+        }
+    }
+    cell_flags
 }
 
 /// The nodes whose stored values loading compares with the exact solver ([`Table::check_probes`]), by
