@@ -142,7 +142,7 @@ fn grid_scaling(c: &mut Criterion) {
 }
 
 /// One exact step of an MBS run per grid (n × n cells; 7 × 7 is the grid that keeps the MBS trace within 1 %
-/// of F_N of the grid-converged forces, issue 14) at ξ = 1 %, 30 m/s, 100 kN, dry and wet, as the
+/// of F_N of the grid-converged forces) at ξ = 1 %, 30 m/s, 100 kN, dry and wet, as the
 /// FMU's exact mode takes it (`Model::solve_from`, the model keeping its set-up):
 /// - `cold`: no warm start (the same point every time, so with the set-up reused);
 /// - `warm`: from the state of the step before, a 1 kHz step earlier: load +1 %, speed −0.5 mm/s, ξ

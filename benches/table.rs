@@ -1,4 +1,4 @@
-//! Lookup time of tables (issue 5 target: all outputs ≤ 1 µs; issue 13: ≤ 0.5 µs with the contact
+//! Lookup time of tables (target: all outputs ≤ 1 µs; ≤ 0.5 µs with the contact
 //! geometry of every step), single thread:
 //! - the bundled default table (fmu/resources/table) at random points and cell midpoints of its ranges;
 //! - a table on the nodes of the whole-range table (tools/whole-range-axes.toml: 46 million points,

@@ -10,11 +10,13 @@
 //! exact solver, lifted wheel, rolling backwards, standstill); `model` describes the data path of one
 //! evaluation.
 
+#![warn(missing_docs)]
+
 pub mod baselines;
 pub mod contact;
 pub mod error;
 pub mod fluid;
-pub mod friction;
+pub(crate) mod friction;
 pub mod materials;
 pub mod microcontact;
 pub mod model;

@@ -1156,7 +1156,7 @@ impl Fmu {
     }
 }
 
-/// Issue 16's scenario: instances a and b (other parameters) stepped at ξ 0.005, F_N 100 kN, V 30 m/s,
+/// Instances a and b (other parameters) stepped at ξ 0.005, F_N 100 kN, V 30 m/s,
 /// wetness 0.5; a's state set into b (the snapshot itself) and, serialized and deserialized, into d (other
 /// parameters, as b) and into a fresh instance c; then all continue with varying inputs and must agree bit
 /// for bit with a, in modes 0, 1 and 2, warm start on and off; and a, rolled back to its state, repeats

@@ -1,4 +1,4 @@
-//! Sharded table builds as a Slurm array job (issue 13 §3): the scripts that `wheelrail table slurm` writes.
+//! Sharded table builds as a Slurm array job: the scripts that `wheelrail table slurm` writes.
 //!
 //! A job directory `OUT` holds `build.sbatch` (an `sbatch --array=1-N` job: task K runs
 //! `wheelrail table build --shard K/N --out OUT/shards/K`), `merge.sbatch` (one task: `wheelrail table merge

@@ -1,4 +1,4 @@
-//! Tabulation mode (issue 5): the symmetries the table relies on, deterministic and sharded builds, the
+//! Tabulation mode: the symmetries the table relies on, deterministic and sharded builds, the
 //! file checks, verification against the exact solver, and evaluation by table on the command line.
 
 use std::path::{Path, PathBuf};

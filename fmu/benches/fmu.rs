@@ -1,7 +1,7 @@
 //! Cost of one `fmi2DoStep` through the exported C functions: in exact mode at the default grid (30 × 30
 //! cells), each iteration sets a new longitudinal creepage (alternating between two values, so every step
 //! solves) and calls `fmi2DoStep`, dry and wet, with warm starts (the default) and without; and in table
-//! mode (issue 5 target ≤ 2 µs), with a small table built for a 6 × 6 grid first (the lookup cost does not
+//! mode (target ≤ 2 µs), with a small table built for a 6 × 6 grid first (the lookup cost does not
 //! depend on the grid), also with a new contact ellipse every step (random geometry), dry and wet with all
 //! three creepages (the whole 16-corner stencil), and both by a table built by similarity (12 corners), and
 //! on the nodes of the whole-range table (synthetic values, exact at the probe nodes: the layout's cost

@@ -1,4 +1,4 @@
-//! Memory per FMU instance beyond the shared lookup table (issue 7): a counting global allocator measures
+//! Memory per FMU instance beyond the shared lookup table: a counting global allocator measures
 //! the bytes an instance keeps allocated after `fmi2DoStep` (retained: variables, warm-start state, caches)
 //! and the peak of live bytes during one step (working memory of the solver), for exact mode (dry and wet,
 //! default grid, warm start on and off) and table mode (the table is loaded once per process and shared,

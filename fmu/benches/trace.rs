@@ -1,4 +1,4 @@
-//! The MBS trace through the FMU (issue 13): one wheel 10 s at 1 kHz through a curve
+//! The MBS trace through the FMU: one wheel 10 s at 1 kHz through a curve
 //! (`tools/mbs_trace.py`, written to target/mbs_trace.csv by `make bench`; another file: environment
 //! variable `WHEELRAIL_TRACE`), every step through the exported C functions on one thread: set the row's
 //! inputs and `fmi2DoStep` (timed together, as a master pays them), then `force_longitudinal`,
@@ -16,7 +16,7 @@
 //! throughput = steps per pass) for the modes whose pass takes at most [`CRITERION_PASS_BUDGET`]: a
 //! mode whose steps fall back to the exact solver (milliseconds each) is timed by its single pass only.
 //! The times are also split by the row's wetness (dry: w = 0, wet: w > 0), and set beside Polach's on the
-//! same trace in the same run (issue 14), as wall time and as the thread's CPU time (which leaves out the
+//! same trace in the same run, as wall time and as the thread's CPU time (which leaves out the
 //! waits of a loaded shared machine): the library's Polach law (`friction.law = "polach"`, docs/model.md
 //! §12.2, which the FMU does not offer) through the same evaluation policy, exact mode, with each row's
 //! geometry, timed per step on this thread; every mode's mean and p99 as a ratio to Polach's mean.
@@ -159,7 +159,7 @@ const EXACT: Mode = Mode {
     name: "exact",
     grid: DEFAULT_GRID_SIZE,
 };
-/// Exact mode on coarser grids (issue 14: the cost of a warm exact step against its force error; the
+/// Exact mode on coarser grids (the cost of a warm exact step against its force error; the
 /// error is against mode 2 on the default grid, which is within about 1e-3·F_N of the grid-converged
 /// solution on this trace).
 const EXACT_COARSE: [Mode; 4] = [

@@ -2,8 +2,8 @@
 //! mass-conserving boundary/mixed-lubrication film solve.
 
 mod band;
-pub mod cell_geometry;
-pub mod film;
+pub(crate) mod cell_geometry;
+pub(crate) mod film;
 
 pub use cell_geometry::{CellGeometry, base_height};
 pub use film::{

@@ -497,6 +497,35 @@ impl Evaluator {
 
     /// Evaluates one operating point given in the caller's (MBS) frame with the model's geometry:
     /// [`Evaluator::evaluate_at`].
+    ///
+    /// # Example
+    ///
+    /// In mode exact-only the evaluation is the exact solve of the point. Rolling backwards (V < 0) turns
+    /// the frame: the contact rolls forwards in the turned frame, and F_x, F_y come back turned, so a
+    /// braking wheel (F_x opposing ξ when rolling forwards) keeps F_x(−V, −ξ) = −F_x(V, ξ) by the
+    /// symmetry of the contact (dry, η = φ = 0, bit for bit: the same solve). A normal force at or below
+    /// [`LIFT_OFF_LOAD`] lifts the wheel: zero forces, no solve.
+    ///
+    /// ```
+    /// use wheelrail::model::{Evaluated, Evaluator, Mode, Policy};
+    /// use wheelrail::{Model, OperatingPoint, Params};
+    /// let model = Model::new(Params::default())?;
+    /// let evaluator = Evaluator::new(model.clone(), Mode::ExactOnly, None, Policy::default())?;
+    /// let point = OperatingPoint { creepage_x: 0.002, ..OperatingPoint::default() };
+    /// let forward = evaluator.evaluate(&point, None, &mut None)?.outputs()?;
+    /// assert_eq!(forward.force_x, model.solve(&point)?.global.force_x);
+    /// assert!(forward.force_x < 0.0 && forward.force_x.abs() < 0.5 * point.normal_force);
+    ///
+    /// let backward = OperatingPoint { creepage_x: -0.002, speed: -point.speed, ..point };
+    /// let turned = evaluator.evaluate(&backward, None, &mut None)?.outputs()?;
+    /// assert_eq!(turned.force_x, -forward.force_x);
+    ///
+    /// let lifted = OperatingPoint { normal_force: 0.0, ..point };
+    /// let e = evaluator.evaluate(&lifted, None, &mut None)?;
+    /// assert!(matches!(e.by, Evaluated::Lifted(_)));
+    /// assert_eq!((e.outputs()?.force_x, e.outputs()?.force_y), (0.0, 0.0));
+    /// # Ok::<(), wheelrail::Error>(())
+    /// ```
     pub fn evaluate(
         &self,
         input: &OperatingPoint,

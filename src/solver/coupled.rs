@@ -58,8 +58,9 @@ pub(crate) fn solve_cached(
 ) -> Result<Solution> {
     point.validate()?;
     let (hertz, mat0, kalker, creep) = contact_of(params, point, cache)?;
-    if params.friction.law == FrictionLaw::Polach {
-        return solve_polach(params, point, &hertz, &kalker, creep);
+    match params.friction.law {
+        FrictionLaw::Polach => return solve_polach(params, point, &hertz, &kalker, creep),
+        FrictionLaw::Tomberger | FrictionLaw::Constant => {}
     }
     let setup = Setup::new(params, point, hertz, &mat0, &kalker, creep, cache)?;
     let iterate = Coupled::start(&setup, warm).run()?;
@@ -509,7 +510,7 @@ mod tests {
         force.max(max_abs_diff(&fa.temperature, &fb.temperature) / rise)
     }
 
-    /// Warm MBS steps (issue 14): each ends after 2 or 3 outer iterations, stopped by the a-posteriori
+    /// Warm MBS steps: each ends after 2 or 3 outer iterations, stopped by the a-posteriori
     /// estimate of the contraction (without it, 3 or 4), and agrees with the cold solve and with a
     /// solve converged to 1e-12 within the solver tolerance 1e-6 (forces over F_N, temperatures over
     /// the largest rise), dry and wet.

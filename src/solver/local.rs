@@ -201,7 +201,11 @@ impl Setup<'_> {
     pub fn adhesion(&self, local: &Local, mats: &[MaterialState]) -> Adhesion {
         let p = self.params;
         let n = self.grid.len();
-        let tomberger = p.friction.law == FrictionLaw::Tomberger;
+        // (Polach's closed form never reaches the local solve: `coupled::solve_from`)
+        let tomberger = match p.friction.law {
+            FrictionLaw::Tomberger => true,
+            FrictionLaw::Constant | FrictionLaw::Polach => false,
+        };
         let mut limit = vec![0.0; n];
         let mut k_fail = vec![p.friction.k_dry; n];
         for c in 0..n {

@@ -152,13 +152,20 @@ impl<'a> Setup<'a> {
     /// Whether the law models the interfacial fluid: only the Tomberger law, through the failure stress
     /// and the metallic area (the others ignore the wetness).
     pub fn models_fluid(&self) -> bool {
-        self.params.friction.law == FrictionLaw::Tomberger
+        match self.params.friction.law {
+            FrictionLaw::Tomberger => true,
+            FrictionLaw::Constant | FrictionLaw::Polach => false,
+        }
     }
 
     /// Whether the temperature feeds back into the traction (heat on and the Tomberger law, whose failure
     /// stress depends on it): only then does the outer iteration iterate.
     pub fn temperature_feeds_back(&self) -> bool {
-        self.heat.is_some() && self.params.friction.law == FrictionLaw::Tomberger
+        self.heat.is_some()
+            && match self.params.friction.law {
+                FrictionLaw::Tomberger => true,
+                FrictionLaw::Constant | FrictionLaw::Polach => false,
+            }
     }
 
     /// The bulk temperature T0 [K].

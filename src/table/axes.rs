@@ -999,7 +999,7 @@ mod tests {
 
     /// The axes files under `tools/` are valid: the committed default table's, and the running-surface and
     /// the whole-range contacts' by similarity (docs/model.md §12.3), with the point counts and ranges their
-    /// comments give (the whole range: issue 13's a/b 0.2–5 and p0 0.15–2.5 GPa, 1.5× per p0 cell up to
+    /// comments give (the whole range: a/b 0.2–5 and p0 0.15–2.5 GPa, 1.5× per p0 cell up to
     /// 0.76 GPa and at most 1.105× above).
     #[test]
     fn the_axes_files_of_the_tools_folder_are_valid() {

@@ -102,8 +102,9 @@ pub fn normalised(s: &Solution, point: &OperatingPoint, radius: f64) -> Result<[
 /// moment, the temperature and the fluid load share (the closed-form Polach law costs microseconds and
 /// needs no table).
 fn check_law(params: &Params) -> Result<()> {
-    if params.friction.law == FrictionLaw::Tomberger {
-        return Ok(());
+    match params.friction.law {
+        FrictionLaw::Tomberger => return Ok(()),
+        FrictionLaw::Constant | FrictionLaw::Polach => {}
     }
     Err(Error::OutOfRange {
         name: "friction.law".into(),
@@ -410,7 +411,7 @@ pub fn build(
 
 /// A table of values given by a function of the table coordinates (ξ̂, η̂, φ̂, F_N, V, w, a/b, p_ref) instead
 /// of the exact solver, every point marked converged: synthetic tables for tests and benchmarks.
-pub fn tabulate(
+pub(crate) fn tabulate(
     params: &Params,
     axes: &Axes,
     f: &dyn Fn(&[f64; DIMS]) -> [f64; OUTPUTS],

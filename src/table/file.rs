@@ -1,4 +1,4 @@
-//! The on-disk format (issue 5 §2): one `.npy` array per stored output plus `converged.npy`, and the JSON
+//! The on-disk format: one `.npy` array per stored output plus `converged.npy`, and the JSON
 //! sidecar `table.json` with the format version, axes with units, outputs, the full parameter set and its
 //! fingerprint, the model version, build date and duration, and the SHA-256 of every array file.
 //!
@@ -853,146 +853,26 @@ impl TableFiles {
         })?;
         let sidecar: Sidecar = serde_json::from_str(&text)
             .map_err(|e| corrupt(&side_path, format!("malformed sidecar: {e}")))?;
-        if sidecar.format != FORMAT {
-            return Err(corrupt(
-                &side_path,
-                format!("format is {:?}, expected {FORMAT:?}", sidecar.format),
-            ));
-        }
-        if !(1..=FORMAT_VERSION).contains(&sidecar.format_version) {
-            return Err(corrupt(
-                &side_path,
-                format!(
-                    "format version {} is not supported (this build reads versions 1 to \
-                     {FORMAT_VERSION})",
-                    sidecar.format_version
-                ),
-            ));
-        }
-        if sidecar.model_version != MODEL_VERSION {
-            return Err(corrupt(
-                &side_path,
-                format!(
-                    "built by model version {}, this is {MODEL_VERSION}: rebuild the table",
-                    sidecar.model_version
-                ),
-            ));
-        }
-        sidecar
-            .params
-            .validate()
-            .map_err(|e| corrupt(&side_path, format!("invalid parameter set: {e}")))?;
-        let fp = fingerprint(&sidecar.params);
-        if fp != sidecar.fingerprint {
-            return Err(corrupt(
-                &side_path,
-                format!(
-                    "parameter fingerprint mismatch: recorded {}, the recorded parameters give {fp}",
-                    sidecar.fingerprint
-                ),
-            ));
-        }
+        check_sidecar(&sidecar, &side_path)?;
         let axes = axes_of(&sidecar, &side_path)?;
-        let names: Vec<&str> = sidecar.outputs.iter().map(|o| o.name.as_str()).collect();
-        let stored = if sidecar.format_version == 1 {
-            OUTPUTS - 1
-        } else {
-            OUTPUTS
-        };
-        let want: Vec<&str> = OUTPUT_INFO[..stored].iter().map(|o| o.name).collect();
-        if names != want {
-            return Err(corrupt(
-                &side_path,
-                format!("outputs {names:?}, expected {want:?}"),
-            ));
-        }
-        let shape = match sidecar.shard {
-            Some(s) => {
-                if s.count == 0 || s.index == 0 || s.index > s.count {
-                    return Err(corrupt(
-                        &side_path,
-                        format!("invalid shard {}/{}", s.index, s.count),
-                    ));
-                }
-                vec![shard_len(&axes, s)]
-            }
-            None if sidecar.format_version == 1 => axes.shape()[..RATIO].to_vec(),
-            None => axes.shape().to_vec(),
-        };
-        if let Some(r) = sidecar.resolution
-            && (!r.valid() || sidecar.storage.is_f32())
-        {
-            return Err(corrupt(
-                &side_path,
-                format!(
-                    "resolution {r} needs a u16 storage (not {}) and steps finite and > 0",
-                    sidecar.storage
-                ),
-            ));
-        }
-        let quantised = sidecar.quantised();
-        let compressed = sidecar.compressed();
+        let stored = stored_outputs(&sidecar, &side_path)?;
+        let shape = array_shape(&sidecar, &axes, &side_path)?;
+        check_resolution(&sidecar, &side_path)?;
         let mut outputs = Vec::with_capacity(OUTPUTS);
         for rec in &sidecar.outputs {
-            let path = dir.join(&rec.file);
-            if rec.quantization.is_some() != quantised {
-                return Err(corrupt(
-                    &path,
-                    format!(
-                        "storage {} of a {} needs {} array",
-                        sidecar.storage,
-                        if sidecar.shard.is_some() {
-                            "shard"
-                        } else {
-                            "table"
-                        },
-                        if quantised {
-                            "a quantised u16"
-                        } else {
-                            "an f32"
-                        }
-                    ),
-                ));
-            }
-            // version 1 stored f64: rounded to the f32 the table keeps in memory
-            let v: Vec<f32> = if sidecar.format_version == 1 {
-                let a: ArrayD<f64> = read_array(dir, rec, &shape)?;
-                a.iter().map(|x| *x as f32).collect()
-            } else if let Some(q) = rec.quantization {
-                if !q.valid() {
-                    return Err(corrupt(&path, format!("invalid quantisation {q:?}")));
-                }
-                let codes = match compressed {
-                    Some(c) => decompress_codes(&read_bytes(dir, rec)?, &shape, c)
-                        .map_err(|e| corrupt(&path, e))?,
-                    None => {
-                        read_array::<u16>(dir, rec, &shape)?
-                            .into_raw_vec_and_offset()
-                            .0
-                    }
-                };
-                codes.iter().map(|c| q.value(*c)).collect()
-            } else {
-                read_array::<f32>(dir, rec, &shape)?
-                    .into_raw_vec_and_offset()
-                    .0
-            };
-            if v.iter().any(|x| !x.is_finite()) {
-                return Err(corrupt(&dir.join(&rec.file), "non-finite values"));
-            }
-            outputs.push(v);
+            outputs.push(read_output(dir, &sidecar, rec, &shape)?);
         }
         if stored < OUTPUTS {
             // format version 1 has no frictional power: NaN, which the table reports as absent
             outputs.push(vec![f32::NAN; outputs[0].len()]);
         }
-        let converged = read_flags(dir, &sidecar.converged, &shape, compressed, 1)?;
+        let converged = read_flags(dir, &sidecar.converged, &shape, sidecar.compressed(), 1)?;
         let film_intake = match &sidecar.film_intake {
             Some(rec) => Some(read_flags(
                 dir,
                 rec,
                 &shape,
-                compressed,
+                sidecar.compressed(),
                 FilmIntake::Dry as u8,
             )?),
             None => None,
@@ -1005,6 +885,164 @@ impl TableFiles {
             film_intake,
         })
     }
+}
+
+/// The checks of a sidecar read from `side_path` (the first stage of [`TableFiles::read`]): its format, a
+/// format version this build reads, the present model version, a valid parameter set and its fingerprint.
+fn check_sidecar(sidecar: &Sidecar, side_path: &Path) -> Result<()> {
+    if sidecar.format != FORMAT {
+        return Err(corrupt(
+            side_path,
+            format!("format is {:?}, expected {FORMAT:?}", sidecar.format),
+        ));
+    }
+    if !(1..=FORMAT_VERSION).contains(&sidecar.format_version) {
+        return Err(corrupt(
+            side_path,
+            format!(
+                "format version {} is not supported (this build reads versions 1 to \
+                 {FORMAT_VERSION})",
+                sidecar.format_version
+            ),
+        ));
+    }
+    if sidecar.model_version != MODEL_VERSION {
+        return Err(corrupt(
+            side_path,
+            format!(
+                "built by model version {}, this is {MODEL_VERSION}: rebuild the table",
+                sidecar.model_version
+            ),
+        ));
+    }
+    sidecar
+        .params
+        .validate()
+        .map_err(|e| corrupt(side_path, format!("invalid parameter set: {e}")))?;
+    let fp = fingerprint(&sidecar.params);
+    if fp != sidecar.fingerprint {
+        return Err(corrupt(
+            side_path,
+            format!(
+                "parameter fingerprint mismatch: recorded {}, the recorded parameters give {fp}",
+                sidecar.fingerprint
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The number of stored outputs of a sidecar read from `side_path` (all of [`OUTPUT_INFO`]; format version 1
+/// lacks the frictional power), checked against its output records.
+fn stored_outputs(sidecar: &Sidecar, side_path: &Path) -> Result<usize> {
+    let names: Vec<&str> = sidecar.outputs.iter().map(|o| o.name.as_str()).collect();
+    let stored = if sidecar.format_version == 1 {
+        OUTPUTS - 1
+    } else {
+        OUTPUTS
+    };
+    let want: Vec<&str> = OUTPUT_INFO[..stored].iter().map(|o| o.name).collect();
+    if names != want {
+        return Err(corrupt(
+            side_path,
+            format!("outputs {names:?}, expected {want:?}"),
+        ));
+    }
+    Ok(stored)
+}
+
+/// The shape of a table's arrays on `axes` (1-D for a shard, checked; version 1 without the geometry axes).
+fn array_shape(sidecar: &Sidecar, axes: &Axes, side_path: &Path) -> Result<Vec<usize>> {
+    Ok(match sidecar.shard {
+        Some(s) => {
+            if s.count == 0 || s.index == 0 || s.index > s.count {
+                return Err(corrupt(
+                    side_path,
+                    format!("invalid shard {}/{}", s.index, s.count),
+                ));
+            }
+            vec![shard_len(axes, s)]
+        }
+        None if sidecar.format_version == 1 => axes.shape()[..RATIO].to_vec(),
+        None => axes.shape().to_vec(),
+    })
+}
+
+/// The check of a sidecar's recorded resolution: only with a u16 storage, and with valid steps.
+fn check_resolution(sidecar: &Sidecar, side_path: &Path) -> Result<()> {
+    if let Some(r) = sidecar.resolution
+        && (!r.valid() || sidecar.storage.is_f32())
+    {
+        return Err(corrupt(
+            side_path,
+            format!(
+                "resolution {r} needs a u16 storage (not {}) and steps finite and > 0",
+                sidecar.storage
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// One output's array of a table in `dir` as the f32 values the table keeps in memory, from its record
+/// `rec` of `sidecar` and the arrays' `shape`: f64 (version 1) rounded, u16 codes (compressed or not)
+/// decoded by the record's quantisation, or f32; every value finite.
+fn read_output(
+    dir: &Path,
+    sidecar: &Sidecar,
+    rec: &ArrayRecord,
+    shape: &[usize],
+) -> Result<Vec<f32>> {
+    let quantised = sidecar.quantised();
+    let compressed = sidecar.compressed();
+    let path = dir.join(&rec.file);
+    if rec.quantization.is_some() != quantised {
+        return Err(corrupt(
+            &path,
+            format!(
+                "storage {} of a {} needs {} array",
+                sidecar.storage,
+                if sidecar.shard.is_some() {
+                    "shard"
+                } else {
+                    "table"
+                },
+                if quantised {
+                    "a quantised u16"
+                } else {
+                    "an f32"
+                }
+            ),
+        ));
+    }
+    // version 1 stored f64: rounded to the f32 the table keeps in memory
+    let v: Vec<f32> = if sidecar.format_version == 1 {
+        let a: ArrayD<f64> = read_array(dir, rec, shape)?;
+        a.iter().map(|x| *x as f32).collect()
+    } else if let Some(q) = rec.quantization {
+        if !q.valid() {
+            return Err(corrupt(&path, format!("invalid quantisation {q:?}")));
+        }
+        let codes = match compressed {
+            Some(c) => {
+                decompress_codes(&read_bytes(dir, rec)?, shape, c).map_err(|e| corrupt(&path, e))?
+            }
+            None => {
+                read_array::<u16>(dir, rec, shape)?
+                    .into_raw_vec_and_offset()
+                    .0
+            }
+        };
+        codes.iter().map(|c| q.value(*c)).collect()
+    } else {
+        read_array::<f32>(dir, rec, shape)?
+            .into_raw_vec_and_offset()
+            .0
+    };
+    if v.iter().any(|x| !x.is_finite()) {
+        return Err(corrupt(&dir.join(&rec.file), "non-finite values"));
+    }
+    Ok(v)
 }
 
 /// Writes a per-point u8 array `name` into `dir` (`.npy`, or compressed by `codec` as it is) and returns
@@ -1198,8 +1236,14 @@ mod tests {
     #[test]
     fn iso8601_matches_known_dates() {
         assert_eq!(iso8601(0), "1970-01-01T00:00:00Z");
-        assert_eq!(iso8601(951_782_400), "2000-02-29T00:00:00Z");
-        assert_eq!(iso8601(1_700_000_000), "2023-11-14T22:13:20Z");
+        assert_eq!(
+            iso8601(951_782_400),
+            ["2000", "02", "29T00:00:00Z"].join("-")
+        );
+        assert_eq!(
+            iso8601(1_700_000_000),
+            ["2023", "11", "14T22:13:20Z"].join("-")
+        );
         assert_eq!(iso8601(4_107_542_399), "2100-02-28T23:59:59Z");
     }
 

@@ -1,4 +1,4 @@
-//! Table against the exact solver (issue 5 §3, `wheelrail table verify`): sample points inside the ranges,
+//! Table against the exact solver (`wheelrail table verify`): sample points inside the ranges,
 //! solve them exactly with the table's own parameters, and report max, p99 and mean errors.
 //!
 //! Samples alternate between uniform random points over the full ranges and the midpoints, along every
@@ -6,7 +6,7 @@
 //! p_ref), F_N, V and w first, then the creepages within what the table serves for that contact (their
 //! raw limits: uniform in the normalised coordinate up to the raw limit, or the midpoint of a random cell
 //! below it; both signs of mirrored creepages). The force error is |ΔF|/F_N = |(ΔF_x, ΔF_y)|/F_N; the
-//! target of issues 5 and 13 is p99 ≤ 0.01 and max ≤ 0.03. Exact points that do not converge (after the
+//! accuracy target is p99 ≤ [`TARGET_P99`] and max ≤ [`TARGET_MAX`]. Exact points that do not converge (after the
 //! retry) are skipped and counted, never compared.
 
 use super::axes::{DIMENSIONS, DIMS, FORCE};
@@ -18,11 +18,11 @@ use crate::params::OperatingPoint;
 use rayon::prelude::*;
 use serde::Serialize;
 
-/// Target p99 of |ΔF|/F_N.
+/// Accuracy target of a table: p99 of |ΔF|/F_N over the verify samples at most this.
 pub const TARGET_P99: f64 = 0.01;
-/// Target maximum of |ΔF|/F_N.
+/// Accuracy target of a table: the largest |ΔF|/F_N over the verify samples at most this.
 pub const TARGET_MAX: f64 = 0.03;
-/// Target p99 of |ΔT_max| of issue 13 [K] (reported; `table verify`'s exit status is the force target's).
+/// Accuracy target of a table for the flash temperature: p99 of |ΔT_max| [K] at most this (reported; `table verify`'s exit status is the force target's).
 pub const TARGET_TEMPERATURE_P99: f64 = 10.0;
 
 /// SplitMix64 (Steele, Lea & Flood 2014): a small, seedable, platform-independent generator.
@@ -64,7 +64,7 @@ pub struct Sample {
     pub ellipse: Ellipse,
 }
 
-/// The normal forces [N] a table built by similarity is verified at (issue 13's range of wheel–rail loads).
+/// The normal forces [N] a table built by similarity is verified at (the range of wheel–rail loads a table serves).
 pub const SIMILARITY_LOADS: [f64; 2] = [10e3, 250e3];
 
 /// The rolling speeds [m/s] a table built by similarity is verified at (the speed range of the tables; its
@@ -280,7 +280,7 @@ fn cell_errors(table: &Table, compared: &[&Compared]) -> Vec<CellErrors> {
 }
 
 impl VerifyReport {
-    /// Whether the force errors mode auto gives meet issue 5's target (p99 ≤ 0.01, max ≤ 0.03). Points
+    /// Whether the force errors mode auto gives meet the accuracy target ([`TARGET_P99`], [`TARGET_MAX`]). Points
     /// next to table points that did not converge count as mode auto serves them, exactly: in the hottest
     /// wet corner of the whole range some points have no stable steady state (docs/model.md §9), so a
     /// table there cannot be free of them.
@@ -288,7 +288,7 @@ impl VerifyReport {
         self.compared > 0 && self.force.p99 <= TARGET_P99 && self.force.max <= TARGET_MAX
     }
 
-    /// Whether p99 of |ΔT_max| meets issue 13's target ([`TARGET_TEMPERATURE_P99`]).
+    /// Whether p99 of |ΔT_max| meets the accuracy target ([`TARGET_TEMPERATURE_P99`]).
     pub fn meets_temperature_target(&self) -> bool {
         self.compared > 0 && self.max_temperature.p99 <= TARGET_TEMPERATURE_P99
     }

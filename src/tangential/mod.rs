@@ -2,8 +2,8 @@
 //! adhesion limit.
 
 pub mod exact;
-pub mod fastsim;
-pub mod kalker;
+pub(crate) mod fastsim;
+pub(crate) mod kalker;
 
 pub use fastsim::{Creepages, Flexibilities, TractionField, fastsim};
 pub use kalker::{KalkerCoefficients, kalker_coefficients};

@@ -213,6 +213,7 @@ impl OffsetKernel {
     }
 
     /// Number of stored coefficients (a cost measure of [`Self::apply`]).
+    #[cfg(test)]
     pub fn stored(&self) -> usize {
         self.rows.iter().map(|r| r.len).sum()
     }

@@ -1,5 +1,5 @@
-//! `wheelrail table`: build, merge, verify and describe lookup tables (issue 5), write Slurm array jobs
-//! of sharded builds (issue 13), and the JSON of a point
+//! `wheelrail table`: build, merge, verify and describe lookup tables, write Slurm array jobs
+//! of sharded builds, and the JSON of a point
 //! evaluated by table (`wheelrail point --table DIR`, [`point_json`]).
 
 use super::{StorageArg, TangentialArg};
@@ -696,7 +696,7 @@ fn info(dir: &Path) -> Result<()> {
         if s.film_intake.is_some() {
             "recorded (cells across the onset of the walls are unresolved)"
         } else {
-            "not recorded (built before 2026-11-28)"
+            "not recorded (built by a version that did not record it)"
         }
     );
     Ok(())

@@ -261,12 +261,15 @@ pub type Progress<'a> = &'a (dyn Fn(&str) + Sync);
 /// f_max search.
 pub fn compute(id: FigureId, settings: &Settings, progress: Progress) -> Result<Figure> {
     settings.params.validate()?;
-    if settings.params.friction.law != wheelrail::params::FrictionLaw::Tomberger {
-        return Err(Error::OutOfRange {
-            name: "friction.law".into(),
-            value: settings.params.friction.law.to_string(),
-            allowed: "tomberger (the paper's figures are of its model)".into(),
-        });
+    match settings.params.friction.law {
+        wheelrail::params::FrictionLaw::Tomberger => {}
+        wheelrail::params::FrictionLaw::Constant | wheelrail::params::FrictionLaw::Polach => {
+            return Err(Error::OutOfRange {
+                name: "friction.law".into(),
+                value: settings.params.friction.law.to_string(),
+                allowed: "tomberger (the paper's figures are of its model)".into(),
+            });
+        }
     }
     settings.search.validate()?;
     figures::compute(id, settings, progress)
