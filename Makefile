@@ -8,7 +8,7 @@ VENV := .venv
 VPY := $(VENV)/bin/python
 FMU := target/fmu/WheelRailFriction.fmu
 
-.PHONY: all build test test-rust test-python test-win64 lint demo clean venv fmu fmu-linux fmu-lib fmu-win64-lib model-description parameter-docs bench table slurm-test fuzz
+.PHONY: all build test test-rust test-python test-win64 examples lint demo clean venv fmu fmu-linux fmu-lib fmu-win64-lib model-description parameter-docs bench table slurm-test fuzz
 
 all: build
 
@@ -26,6 +26,12 @@ fmu-lib:
 
 test-rust: fmu-lib
 	$(CARGO) test --release --workspace
+
+# the library's examples (examples/*.rs), each checking the physics it shows
+examples:
+	$(CARGO) run --release -p wheelrail --example point
+	$(CARGO) run --release -p wheelrail --example sweep
+	$(CARGO) run --release -p wheelrail --example table_lookup
 
 # regenerate modelDescription/modelDescription.xml from the variable table (a test checks it is current)
 model-description:
@@ -77,7 +83,7 @@ slurm-test:
 	$(CARGO) build --release -p wheelrail-cli --bin wheelrail
 	tools/slurm-test.sh
 
-test: lint test-rust test-python test-win64 slurm-test
+test: lint test-rust examples test-python test-win64 slurm-test
 
 # the fuzzer of FMI call sequences (tests/fmu/fuzz.rs) at its full budget against the FMU's shared library:
 # crashes, hangs and broken invariants fail, with the seed and a shrunk call log (`make test` runs 10 000;
