@@ -1635,6 +1635,25 @@ fn a_plan_covers_every_contact_of_its_file() {
         ok(&wheelrail(&words, None));
         assert!(job.join("build.sbatch").exists());
     }
+    // a base with a normal-force axis (the bundled table's): the pressure nodes span p_ref itself, the
+    // loads are the base's, and --loads is refused
+    let tools = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tools");
+    let base = tools.join("default-contact-axes.toml");
+    let out = tmp("plan-force-axes.toml");
+    let args = ["--contacts", s(&c), "--base", s(&base), "--out", s(&out)];
+    ok(&plan(&args));
+    let axes = wheelrail::table::Axes::from_toml_file(&out).unwrap();
+    let given = wheelrail::table::Axes::from_toml_file(&base).unwrap();
+    assert!(!axes.similarity());
+    assert_eq!(axes.0[..6], given.0[..6]);
+    for &[r, p_ref] in &independent {
+        assert!(axes.0[6].min() < r && r < axes.0[6].max(), "a/b {r}");
+        let (lo, hi) = (axes.0[7].min() * 1.001, axes.0[7].max() / 1.001);
+        assert!(lo < p_ref && p_ref < hi, "p_ref {p_ref}: {:?}", axes.0[7]);
+    }
+    let o = plan(&[&args[..], &["--loads", "20e3,200e3"]].concat());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("normal-force axis"));
     cleanup("plan-");
 }
 
@@ -1695,9 +1714,10 @@ fn bad_contacts_files_are_refused_naming_the_line() {
     cleanup("badplan-");
 }
 
-/// A small plan — the contacts around the default one, the loads 90–110 kN, a base of few creepage,
-/// speed and wetness nodes by similarity — builds on 6 × 6 cells into a table that `table verify` passes
-/// (|ΔF|/F_N p99 ≤ 0.01, max ≤ 0.03, T_max p99 ≤ 10 K), whose arrays hold the f32 bytes the plan printed.
+/// A small plan — the default contact and a circular one, the loads 60–160 kN (one a/b cell, p0 over
+/// 0.65–1.40 GPa in 7 cells across the knee), a base of few creepage, speed and wetness nodes by
+/// similarity — builds on 6 × 6 cells into a table that `table verify` passes (|ΔF|/F_N p99 ≤ 0.01,
+/// max ≤ 0.03, T_max p99 ≤ 10 K), whose arrays hold the f32 bytes the plan printed.
 #[test]
 fn a_small_plan_builds_a_table_that_meets_the_targets() {
     let base = VERIFY_AXES
@@ -1711,7 +1731,7 @@ fn a_small_plan_builds_a_table_that_meets_the_targets() {
         );
     let (params, base) = files("smallplan", "[grid]\nnx = 6\nny = 6\n", &base);
     let contacts = tmp("smallplan.csv");
-    std::fs::write(&contacts, "A,B\n1.015,0.4215\n0.98,0.43\n1.04,0.42\n").unwrap();
+    std::fs::write(&contacts, "A,B\n1.015,0.4215\n1.3,1.3\n").unwrap();
     let axes = tmp("smallplan-axes.toml");
     let text = ok(&plan(&[
         "--contacts",
@@ -1719,7 +1739,7 @@ fn a_small_plan_builds_a_table_that_meets_the_targets() {
         "--base",
         s(&base),
         "--loads",
-        "90e3,110e3",
+        "60e3,160e3",
         "--params",
         s(&params),
         "--out",
@@ -1729,8 +1749,10 @@ fn a_small_plan_builds_a_table_that_meets_the_targets() {
     build(&params, &axes, &dir, &[], "2");
     let bytes: u64 = array_files(&dir).iter().map(|(_, b)| b.len() as u64).sum();
     assert!(text.contains(&format!("f32 {bytes} (")), "{bytes}: {text}");
-    let (r, _, _) = verify_with_csv(&dir, &tmp("smallplan-samples.csv"), 60);
-    assert_eq!(r["compared"], 60, "{r}");
+    let axes = wheelrail::table::Axes::from_toml_file(&axes).unwrap();
+    assert_eq!((axes.0[6].points.len(), axes.0[7].points.len()), (2, 8));
+    let (r, _, _) = verify_with_csv(&dir, &tmp("smallplan-samples.csv"), 200);
+    assert_eq!(r["compared"], 200, "{r}");
     let (p99, max, t99) = (
         r["force"]["p99"].as_f64().unwrap(),
         r["force"]["max"].as_f64().unwrap(),

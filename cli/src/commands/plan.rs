@@ -509,15 +509,21 @@ fn plan_text(
     out.push(format!("other axes of {base_name}: {}", others.join(", ")));
     if let Some([lo, hi]) = loads {
         let v = &axes.0[SPEED];
-        let scale = |f: f64| (f / REFERENCE_FORCE).sqrt();
+        let served = |f: f64| {
+            let scale = (f / REFERENCE_FORCE).sqrt();
+            format!(
+                "V {:.3}–{:.3} m/s at {:.0} kN",
+                v.min() / scale,
+                v.max() / scale,
+                f / 1e3
+            )
+        };
         out.push(format!(
-            "       equivalent speeds {}–{} m/s: V {:.3}–{:.3} m/s at every load {:.0}–{:.0} kN",
+            "       equivalent speeds {}–{} m/s: {}, {}",
             v.min(),
             v.max(),
-            v.min() / scale(lo),
-            v.max() / scale(hi),
-            lo / 1e3,
-            hi / 1e3
+            served(lo),
+            served(hi)
         ));
     }
     let [[r0, r1], [p0, p1]] = DEFAULT_BASE_GEOMETRY;
