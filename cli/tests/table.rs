@@ -1545,7 +1545,7 @@ fn a_plan_covers_every_contact_of_its_file() {
         0.000, 1.10, 0.30   # running surface\n\
         0.006, 1.20, 1.20\n\
         0.008, 2.5, 0.9\n";
-    let semi_axes = "a,b,normal_force\n0.004,0.0015,80e3\n0.006,0.003,120e3\n";
+    let semi_axes = "\"a\",\"b\",\"normal_force\"\n0.004,0.0015,80e3\n\"0.006\",0.003,120e3\n";
     let c = tmp("plan-curvatures.csv");
     std::fs::write(&c, curvatures).unwrap();
     let sa = tmp("plan-semi-axes.csv");

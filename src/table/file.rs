@@ -1261,6 +1261,24 @@ pub fn decompress_codes(
 mod tests {
     use super::*;
 
+    /// The bytes [`array_bytes`] counts are those of the `.npy` files [`TableFiles::write`] writes: six
+    /// outputs of f32 or u16 codes and two u8 flag arrays in the axes' shape; none for compressed storages.
+    #[test]
+    fn array_bytes_are_those_of_the_written_npy_files() {
+        let spec: crate::table::AxesSpec =
+            toml::from_str(include_str!("../../tests/fixtures/small-axes.toml")).unwrap();
+        let axes = Axes::from_spec(&spec).unwrap();
+        let shape = axes.shape();
+        let n = axes.len();
+        let flags = 2 * npy_bytes(&vec![0u8; n], &shape).len() as u64;
+        let f32s = npy_bytes(&vec![0f32; n], &shape).len() as u64;
+        let u16s = npy_bytes(&vec![0u16; n], &shape).len() as u64;
+        assert_eq!(array_bytes(&axes, Storage::F32), Some(6 * f32s + flags));
+        assert_eq!(array_bytes(&axes, Storage::U16), Some(6 * u16s + flags));
+        assert_eq!(array_bytes(&axes, Storage::U16x), None);
+        assert_eq!(OUTPUTS, 6);
+    }
+
     #[test]
     fn iso8601_matches_known_dates() {
         assert_eq!(iso8601(0), "1970-01-01T00:00:00Z");

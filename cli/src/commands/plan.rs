@@ -147,20 +147,26 @@ enum Columns {
     Curvatures { a: usize, b: usize },
 }
 
-/// One contact of the file: its ellipse ratio a/b and reference pressure p_ref [Pa], and its line.
+/// One contact of the file: its ellipse ratio a/b and reference pressure p_ref [Pa].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Contact {
     /// a/b [-].
     pub ratio: f64,
     /// p_ref [Pa]: the Hertz peak pressure of the contact's shape at F_ref.
     pub reference_pressure: f64,
-    /// The line of the file (1-based).
-    pub line: usize,
 }
 
 /// The text of a line without its comment, trimmed.
 fn content(line: &str) -> &str {
     line.split('#').next().unwrap_or("").trim()
+}
+
+/// The cells of a line: split at commas, trimmed, and without the double quotes a spreadsheet may put
+/// around them.
+fn cells(line: &str) -> Vec<&str> {
+    line.split(',')
+        .map(|c| c.trim().trim_matches('"').trim())
+        .collect()
 }
 
 /// The column of a header naming one of `names`.
@@ -234,11 +240,11 @@ pub fn read_contacts(
     let (header_line, header) = lines
         .next()
         .ok_or_else(|| err(None, "no header line and no contacts".into()))?;
-    let header: Vec<&str> = header.split(',').map(str::trim).collect();
+    let header = cells(header);
     let cols = columns(&header).map_err(|r| err(Some(header_line), r))?;
     let mut contacts = Vec::new();
     for (n, line) in lines {
-        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+        let cells = cells(line);
         let contact = |reason| err(Some(n), reason);
         let (ratio, p_ref) = match cols {
             Columns::SemiAxes { a, b, force } => {
@@ -275,7 +281,6 @@ pub fn read_contacts(
         contacts.push(Contact {
             ratio,
             reference_pressure: p_ref,
-            line: n,
         });
     }
     if contacts.is_empty() {
