@@ -755,6 +755,34 @@ fn npy_bytes<T: ndarray_npy::WritableElement + Clone>(data: &[T], shape: &[usize
     out
 }
 
+/// The `.npy` bytes (header and values) of an array of `shape` with elements `T`, as [`npy_bytes`]
+/// writes them, without the values.
+fn npy_len<T: ndarray_npy::WritableElement>(shape: &[usize]) -> u64 {
+    let header = ndarray_npy::npy::header::Header {
+        type_descriptor: T::type_descriptor(),
+        layout: ndarray_npy::npy::header::Layout::Standard,
+        shape: shape.to_vec(),
+    };
+    let header = header
+        .to_bytes()
+        .expect("a table's header fits the format")
+        .len();
+    (header + shape.iter().product::<usize>() * std::mem::size_of::<T>()) as u64
+}
+
+/// The bytes of the arrays of a full table with `axes` in an uncompressed storage (f32 or u16: the
+/// outputs, the converged flags and the film-intake states, as [`TableFiles::write`] writes them, the
+/// sidecar not counted); None for the compressed storages, whose bytes depend on the values.
+pub fn array_bytes(axes: &Axes, storage: Storage) -> Option<u64> {
+    let shape = axes.shape();
+    let outputs = match storage {
+        Storage::F32 => npy_len::<f32>(&shape),
+        Storage::U16 => npy_len::<u16>(&shape),
+        Storage::U16z | Storage::U16x => return None,
+    };
+    Some(OUTPUTS as u64 * outputs + 2 * npy_len::<u8>(&shape))
+}
+
 impl TableFiles {
     /// Shape of every array: the axes' for a full table, (points,) for a shard.
     pub fn array_shape(&self) -> Vec<usize> {
@@ -1232,6 +1260,24 @@ pub fn decompress_codes(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The bytes [`array_bytes`] counts are those of the `.npy` files [`TableFiles::write`] writes: six
+    /// outputs of f32 or u16 codes and two u8 flag arrays in the axes' shape; none for compressed storages.
+    #[test]
+    fn array_bytes_are_those_of_the_written_npy_files() {
+        let spec: crate::table::AxesSpec =
+            toml::from_str(include_str!("../../tests/fixtures/small-axes.toml")).unwrap();
+        let axes = Axes::from_spec(&spec).unwrap();
+        let shape = axes.shape();
+        let n = axes.len();
+        let flags = 2 * npy_bytes(&vec![0u8; n], &shape).len() as u64;
+        let f32s = npy_bytes(&vec![0f32; n], &shape).len() as u64;
+        let u16s = npy_bytes(&vec![0u16; n], &shape).len() as u64;
+        assert_eq!(array_bytes(&axes, Storage::F32), Some(6 * f32s + flags));
+        assert_eq!(array_bytes(&axes, Storage::U16), Some(6 * u16s + flags));
+        assert_eq!(array_bytes(&axes, Storage::U16x), None);
+        assert_eq!(OUTPUTS, 6);
+    }
 
     #[test]
     fn iso8601_matches_known_dates() {

@@ -3,6 +3,7 @@
 mod curve;
 mod fields;
 mod parameters;
+mod plan;
 mod point;
 mod reproduce;
 mod table;
@@ -382,6 +383,9 @@ pub fn run(cli: Cli) -> Result<()> {
 
 /// Exit code of an error: 2 for invalid input (values, parameter files), 1 otherwise.
 pub fn exit_code(e: &anyhow::Error) -> u8 {
+    if e.downcast_ref::<plan::ContactsError>().is_some() {
+        return 2;
+    }
     match e.downcast_ref::<wheelrail::Error>() {
         Some(
             wheelrail::Error::OutOfRange { .. }

@@ -37,6 +37,9 @@ enum TableCommand {
     /// Write a Slurm array job that builds the table in N shards (OUT/build.sbatch), the job that merges
     /// and verifies them (OUT/merge.sbatch) and OUT/submit.sh, which submits both.
     Slurm(SlurmArgs),
+    /// Write the axes file of a table that covers the contacts of a CSV file (semi-axes a, b at a normal
+    /// force, or gap curvatures A, B) and print its points, cost, bytes and the `table slurm` command.
+    Plan(super::plan::PlanArgs),
 }
 
 #[derive(Debug, Args)]
@@ -169,6 +172,7 @@ pub fn run(a: &TableArgs) -> Result<()> {
         TableCommand::Verify(v) => run_verify(v),
         TableCommand::Info(i) => info(&i.dir),
         TableCommand::Slurm(s) => slurm(s),
+        TableCommand::Plan(p) => super::plan::run(p),
     }
 }
 
