@@ -7,7 +7,7 @@ use super::*;
 #[test]
 fn array_bytes_are_those_of_the_written_npy_files() {
     let spec: crate::table::AxesSpec =
-        toml::from_str(include_str!("../../tests/fixtures/small-axes.toml")).unwrap();
+        toml::from_str(include_str!("../../../tests/fixtures/small-axes.toml")).unwrap();
     let axes = Axes::from_spec(&spec).unwrap();
     let shape = axes.shape();
     let n = axes.len();
