@@ -140,7 +140,7 @@ fn main() {
     ));
     println!("memory per FMU instance (bytes kept after a step; peak working bytes during a step)");
     for (name, kept, peak) in &rows {
-        println!("  {name:<48} kept {kept:>10.0}   step peak {peak:>10}");
+        println!("  {name:<50} kept {kept:>10.0}   step peak {peak:>10}");
     }
     let json = serde_json::json!({
         "instances": rows.iter().map(|(n, k, p)| serde_json::json!({

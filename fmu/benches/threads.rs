@@ -6,9 +6,11 @@
 //!
 //! Criterion group `threads` (throughput = instance steps per iteration, so it reports steps per second),
 //! then a summary of [`ROUNDS`] rounds that alternate the one- and two-thread runs (a shared machine's
-//! load changes between runs): steps per second (min, median) of each, their ratio, and the CPU time the
+//! load changes between runs): steps per second (min, median) of each and their ratio; the CPU time the
 //! stepping threads used per second of wall time (near 2 with two threads unless they wait: for each
-//! other, or for a core another process holds). Run with `cargo bench -p wheelrail-fmu --bench threads`.
+//! other, or for a core another process holds) and per step (more with two threads if they slow each
+//! other down: shared caches, memory bandwidth, contended cache lines); and the machine's idle CPUs
+//! (/proc/stat), which tell a wait for each other (a core idle) from a core another process holds. Run with `cargo bench -p wheelrail-fmu --bench threads`.
 
 use WheelRailFriction::contact::variables::CREEPAGE_LONGITUDINAL;
 use WheelRailFriction::exports::*;
@@ -24,8 +26,8 @@ use common::{Setup, instance, thread_cpu_ns};
 const INSTANCES: usize = 4;
 /// Alternating rounds of the summary.
 const ROUNDS: usize = 7;
-/// Steps of each instance per round of the summary.
-const ROUND_STEPS: u64 = 60;
+/// Duration of a one-thread round of the summary [s] (two-thread rounds take the same steps).
+const ROUND_TIME: f64 = 0.3;
 
 /// Exact-mode instances, owned by the thread that steps them.
 struct Instances(Vec<(Fmi2Component, [f64; 2])>);
@@ -47,7 +49,8 @@ impl Instances {
         let mut all = Instances(
             (0..n)
                 .map(|k| {
-                    let xi = 0.002 + 5e-4 * k as f64;
+                    // the same creepages in one part of all instances as in each of two parts
+                    let xi = 0.002 + 5e-4 * (k % (INSTANCES / 2)) as f64;
                     (unsafe { instance(&setup) }, [xi, xi * 1.05])
                 })
                 .collect(),
@@ -136,30 +139,62 @@ fn main() {
     // alternating rounds (not under criterion's filter: always run)
     for grid in [15, WheelRailFriction::contact::variables::DEFAULT_GRID_SIZE] {
         let mut p = [parts(grid, 1), parts(grid, 2)];
-        for part in &mut p {
-            run(part, 3);
-        }
-        let mut rate = [Vec::new(), Vec::new()];
-        let mut load = [Vec::new(), Vec::new()];
+        // warm, and steps per round for ROUND_TIME on one thread
+        let (wall, _) = run(&mut p[0], 3);
+        let steps = ((ROUND_TIME / wall.as_secs_f64() * 3.0) as u64).max(3);
+        run(&mut p[1], 3);
+        let mut rounds = [Vec::new(), Vec::new()];
         for _ in 0..ROUNDS {
             for (i, part) in p.iter_mut().enumerate() {
-                let (wall, cpu) = run(part, ROUND_STEPS);
-                rate[i].push((INSTANCES as u64 * ROUND_STEPS) as f64 / wall.as_secs_f64());
-                load[i].push(cpu / wall.as_secs_f64());
+                let idle = machine_idle_s();
+                let (wall, cpu) = run(part, steps);
+                let wall = wall.as_secs_f64();
+                let n = (INSTANCES as u64 * steps) as f64;
+                rounds[i].push([
+                    n / wall,
+                    cpu / wall,
+                    cpu / n,
+                    (machine_idle_s() - idle) / wall,
+                ]);
             }
         }
-        let [one, two] = rate.clone().map(median);
+        let median_of = |i: usize, q: usize| median(rounds[i].iter().map(|r| r[q]).collect());
         println!(
-            "exact {grid}x{grid} dry, {INSTANCES} instances, {ROUNDS} alternating rounds of {ROUND_STEPS} steps each:"
+            "exact {grid}x{grid} dry, {INSTANCES} instances, {ROUNDS} alternating rounds of {steps} steps each:"
         );
-        for (threads, (r, l)) in [1, 2].into_iter().zip(rate.iter().zip(&load)) {
-            let min = r.iter().copied().fold(f64::INFINITY, f64::min);
+        for (i, threads) in [1, 2].into_iter().enumerate() {
+            let min = rounds[i].iter().map(|r| r[0]).fold(f64::INFINITY, f64::min);
             println!(
-                "  {threads} thread(s): steps/s min {min:.0}, median {:.0}; CPU s per wall s median {:.2}",
-                median(r.clone()),
-                median(l.clone())
+                "  {threads} thread(s): steps/s min {min:.0}, median {:.0}; medians: CPU s per wall s {:.2}, \
+                 CPU per step {:.1} µs, idle CPUs of the machine {:.2}",
+                median_of(i, 0),
+                median_of(i, 1),
+                median_of(i, 2) * 1e6,
+                median_of(i, 3)
             );
         }
-        println!("  ratio of the medians, 2 threads / 1: {:.2}", two / one);
+        println!(
+            "  ratio of the medians, 2 threads / 1: {:.2}",
+            median_of(1, 0) / median_of(0, 0)
+        );
+    }
+}
+
+/// The idle time of all the machine's CPUs so far [s] (/proc/stat: idle and iowait, in the kernel's
+/// USER_HZ = 100 ticks per second; NaN where there is no /proc/stat).
+fn machine_idle_s() -> f64 {
+    const USER_HZ: f64 = 100.0;
+    let stat = std::fs::read_to_string("/proc/stat").unwrap_or_default();
+    let ticks: Vec<f64> = stat
+        .lines()
+        .next()
+        .unwrap_or_default()
+        .split_whitespace()
+        .skip(1)
+        .filter_map(|x| x.parse().ok())
+        .collect();
+    match ticks.get(3..5) {
+        Some([idle, iowait]) => (idle + iowait) / USER_HZ,
+        _ => f64::NAN,
     }
 }
