@@ -14,6 +14,7 @@ use std::collections::HashMap;
 use std::ffi::{CStr, CString, c_char, c_int, c_void};
 use std::path::{Path, PathBuf};
 use std::ptr::{null, null_mut};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 use wheelrail::{OperatingPoint, Params};
 
@@ -1027,6 +1028,262 @@ fn two_instances_with_different_parameters_run_side_by_side() {
     assert_ne!(a[3], b[3]);
     assert!(smooth.messages().iter().all(|m| m.instance == "smooth"));
     assert!(rough.messages().iter().all(|m| m.instance == "rough"));
+}
+
+/// How one of the concurrent instances evaluates and which contacts its steps have.
+struct Lane {
+    name: &'static str,
+    /// `mode`: 0 auto (the bundled table, the exact solver where it does not serve), 1 table only,
+    /// 2 exact only.
+    mode: i32,
+    /// `grid_size` (None: the default, which the bundled table was built for).
+    grid: Option<i32>,
+    /// `tangential`: 0 FASTSIM, 1 Kalker's exact steady rolling.
+    tangential: i32,
+    wet: bool,
+    contact: LaneContact,
+}
+
+/// The contact geometry of a lane's steps.
+#[derive(Clone, Copy, PartialEq)]
+enum LaneContact {
+    /// The default gap curvatures (the bundled table's contact).
+    Default,
+    /// New gap curvatures A, B every step.
+    Curvatures,
+    /// New prescribed semi-axes a, b every step.
+    SemiAxes,
+    /// In turn the default contact, new curvatures and a prescribed flange-root ellipse (a/b 2–4, p_ref
+    /// 1.0–1.2 GPa: outside the bundled table).
+    Mixed,
+}
+
+/// The inputs a lane sets before each step, in the order of [`Lane::inputs`].
+const LANE_INPUTS: [&str; 10] = [
+    "creepage_longitudinal",
+    "creepage_lateral",
+    "spin_creepage",
+    "normal_force",
+    "rolling_speed",
+    "wetness",
+    "curvature_longitudinal",
+    "curvature_lateral",
+    "semi_axis_a",
+    "semi_axis_b",
+];
+
+/// Steps per lane.
+const LANE_STEPS: usize = 30;
+
+/// What a step leaves: its status, the bits of every Real output, `evaluation_mode` and `converged`.
+type LaneStep = (c_int, [u64; REAL_OUTPUTS.len()], i32, bool);
+
+impl Lane {
+    /// The lane's deterministic input sequence (its own seed: `seed`), inside the bundled table's range of
+    /// creepage, load, speed and wetness.
+    fn inputs(&self, seed: u64) -> Vec<[f64; LANE_INPUTS.len()]> {
+        let mut rng = wheelrail::table::verify::SplitMix64::new(seed);
+        let defaults = Params::default().geometry;
+        (0..LANE_STEPS)
+            .map(|k| {
+                let mut u = || rng.uniform();
+                let (xi, eta, spin) = (0.008 * u() - 0.002, 0.004 * u() - 0.002, 0.4 * u() - 0.2);
+                let (load, speed) = (70e3 + 60e3 * u(), 10.0 + 30.0 * u());
+                let wetness = if self.wet { 0.02 + 0.98 * u() } else { 0.0 };
+                let mut geometry = [defaults.curvature_x, defaults.curvature_y, 0.0, 0.0];
+                let contact = match (self.contact, k % 3) {
+                    (LaneContact::Mixed, 0) => LaneContact::Default,
+                    (LaneContact::Mixed, 1) => LaneContact::Curvatures,
+                    (c, _) => c,
+                };
+                match contact {
+                    LaneContact::Default => {}
+                    LaneContact::Curvatures => {
+                        geometry[..2].copy_from_slice(&[0.5 + u(), 0.3 + u()])
+                    }
+                    LaneContact::SemiAxes | LaneContact::Mixed => {
+                        let (ratio, p_ref) = if self.contact == LaneContact::Mixed {
+                            (2.0 + 2.0 * u(), 1.0e9 + 0.2e9 * u())
+                        } else {
+                            (0.4 + 2.6 * u(), 0.7e9 + 0.5e9 * u())
+                        };
+                        let [a, b] = wheelrail::table::coords::semi_axes(ratio, p_ref, load);
+                        geometry[2..].copy_from_slice(&[a, b]);
+                    }
+                }
+                let [a_x, b_y, a, b] = geometry;
+                [xi, eta, spin, load, speed, wetness, a_x, b_y, a, b]
+            })
+            .collect()
+    }
+
+    /// A new, initialised instance of the lane (warm starts on unless `warm` is false).
+    fn instance(&self, warm: bool) -> Fmu {
+        let f = Fmu::new(self.name, None);
+        assert_eq!(f.set_int("mode", self.mode), OK);
+        assert_eq!(f.set_int("tangential", self.tangential), OK);
+        assert_eq!(f.set_bool("warm_start", warm), OK);
+        if let Some(grid) = self.grid {
+            assert_eq!(f.set_int("grid_size", grid), OK);
+        }
+        if self.mode != 2 {
+            let table = CString::new(root().join("fmu/resources/table").to_str().unwrap()).unwrap();
+            assert_eq!(
+                unsafe { (fmi().set_string)(f.c, &vr("table_file"), 1, &table.as_ptr()) },
+                OK
+            );
+        }
+        assert_eq!(f.initialize(), OK, "{}: {:?}", self.name, f.messages());
+        f
+    }
+}
+
+/// Steps `f` through `inputs` (every step at most a warning), returning what each step left.
+fn run_lane(f: &Fmu, inputs: &[[f64; LANE_INPUTS.len()]]) -> Vec<LaneStep> {
+    inputs
+        .iter()
+        .enumerate()
+        .map(|(k, x)| {
+            for (name, value) in LANE_INPUTS.iter().zip(x) {
+                assert_eq!(
+                    f.set(name, *value),
+                    OK,
+                    "{name} = {value}: {:?}",
+                    f.errors()
+                );
+            }
+            let status = f.step(1e-3 * k as f64);
+            assert!(status <= WARNING, "step {k}: {:?}", f.messages());
+            let (outputs, mode) = f.outputs();
+            (
+                status,
+                outputs.map(f64::to_bits),
+                mode,
+                f.get_bool("converged"),
+            )
+        })
+        .collect()
+}
+
+/// Eight instances, each with its own parameters and input sequence, stepped concurrently on eight threads
+/// (started together at a barrier, so their steps interleave): exact mode on small grids, dry and wet, with
+/// new gap curvatures or prescribed semi-axes every step, one with Kalker's exact tangential solver; table
+/// mode with the bundled table, dry and wet; mode auto with the bundled table at contacts in turn inside it
+/// and outside it (the exact fallback); warm starts on. Each must give bit for bit the outputs of a fresh
+/// instance of the same lane stepped after the others on one thread (the table lanes repeat their steps,
+/// each time with the same outputs, while the others solve). Concurrent first, so that the
+/// process-wide memos (influence tables of the heat model, the microcontact tables, the shared table) are
+/// filled by the racing threads.
+///
+/// What a race would break: a warm start, set-up or output that leaked from one instance into another, or
+/// a memo entry read half-written, changes the solve from which an instance starts or the tables it sums,
+/// and with that the last digits of its outputs (a warm start alone does: checked below against a cold
+/// instance), and the lanes' outputs differ from each other at every step, so outputs landing in the
+/// wrong instance would differ too.
+#[test]
+fn eight_instances_stepped_concurrently_give_the_outputs_of_the_same_stepped_one_after_another() {
+    use LaneContact::*;
+    let lane = |name, mode, grid, tangential, wet, contact| Lane {
+        name,
+        mode,
+        grid,
+        tangential,
+        wet,
+        contact,
+    };
+    let lanes = [
+        lane("exact-dry-curvatures", 2, Some(10), 0, false, Curvatures),
+        lane("exact-wet-curvatures", 2, Some(12), 0, true, Curvatures),
+        lane("exact-wet-semi-axes", 2, Some(10), 0, true, SemiAxes),
+        lane(
+            "exact-tangential-dry-semi-axes",
+            2,
+            Some(8),
+            1,
+            false,
+            SemiAxes,
+        ),
+        lane("table-dry", 1, None, 0, false, Default),
+        lane("table-wet", 1, None, 0, true, Default),
+        lane("auto-dry-fallback", 0, None, 0, false, Mixed),
+        lane("auto-wet-fallback", 0, None, 0, true, Mixed),
+    ];
+    let inputs: Vec<_> = (0..lanes.len())
+        .map(|i| lanes[i].inputs(0x5eed + i as u64))
+        .collect();
+    let start = std::sync::Barrier::new(lanes.len());
+    // the lanes that solve, still running: the table lanes (microseconds a step) repeat their steps
+    // until none is, so that their lookups run alongside the solves
+    let solving = AtomicUsize::new(lanes.iter().filter(|l| l.mode != 1).count());
+    let concurrent: Vec<_> = std::thread::scope(|s| {
+        let threads: Vec<_> = lanes
+            .iter()
+            .zip(&inputs)
+            .map(|(lane, inputs)| {
+                let (start, solving) = (&start, &solving);
+                s.spawn(move || {
+                    let f = lane.instance(true);
+                    start.wait();
+                    let steps = run_lane(&f, inputs);
+                    if lane.mode == 1 {
+                        while solving.load(Ordering::Relaxed) > 0 {
+                            assert_eq!(run_lane(&f, inputs), steps, "{}, repeated", lane.name);
+                        }
+                    } else {
+                        solving.fetch_sub(1, Ordering::Relaxed);
+                    }
+                    (f, steps)
+                })
+            })
+            .collect();
+        threads.into_iter().map(|t| t.join().unwrap()).collect()
+    });
+    for ((lane, inputs), (f, steps)) in lanes.iter().zip(&inputs).zip(&concurrent) {
+        let alone = run_lane(&lane.instance(true), inputs);
+        for (k, (a, b)) in steps.iter().zip(&alone).enumerate() {
+            assert_eq!(
+                a,
+                b,
+                "{}, step {k}: outputs {:?} vs {:?}",
+                lane.name,
+                a.1.map(f64::from_bits),
+                b.1.map(f64::from_bits)
+            );
+        }
+        assert!(
+            f.messages().iter().all(|m| m.instance == lane.name),
+            "{}: {:?}",
+            lane.name,
+            f.messages()
+        );
+        // how each lane evaluated: the exact solver, the table, or (auto) both
+        let modes: std::collections::BTreeSet<i32> = steps.iter().map(|s| s.2).collect();
+        let expected = match lane.mode {
+            0 => vec![1, 2],
+            mode => vec![mode],
+        };
+        assert_eq!(
+            modes.into_iter().collect::<Vec<_>>(),
+            expected,
+            "{}",
+            lane.name
+        );
+    }
+    // the lanes differ from each other at every step
+    for (i, (_, a)) in concurrent.iter().enumerate() {
+        for (j, (_, b)) in concurrent.iter().enumerate().skip(i + 1) {
+            for k in 0..LANE_STEPS {
+                assert_ne!(
+                    a[k].1, b[k].1,
+                    "{} and {}, step {k}",
+                    lanes[i].name, lanes[j].name
+                );
+            }
+        }
+    }
+    // a warm start shows in the bits: a cold instance of the first lane differs at some step
+    let cold = run_lane(&lanes[0].instance(false), &inputs[0]);
+    assert_ne!(cold, concurrent[0].1);
 }
 
 #[test]

@@ -115,3 +115,32 @@ pub unsafe fn instance(s: &Setup) -> WheelRailFriction::fmi2::ffi::Fmi2Component
         fmu
     }
 }
+
+/// The CPU time this thread has used (`CLOCK_THREAD_CPUTIME_ID`): unlike the wall time it leaves out the
+/// time the thread waits while the shared machine runs others (NaN where there is no such clock).
+#[cfg(target_os = "linux")]
+#[allow(dead_code)] // not every bench uses it
+pub fn thread_cpu_ns() -> f64 {
+    #[repr(C)]
+    struct Timespec {
+        sec: i64,
+        nsec: i64,
+    }
+    unsafe extern "C" {
+        fn clock_gettime(clock: i32, time: *mut Timespec) -> i32;
+    }
+    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
+    let mut t = Timespec { sec: 0, nsec: 0 };
+    // SAFETY: a valid clock id and a pointer to a live timespec
+    match unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut t) } {
+        0 => t.sec as f64 * 1e9 + t.nsec as f64,
+        _ => f64::NAN,
+    }
+}
+
+/// The CPU time this thread has used (NaN: no per-thread clock here).
+#[cfg(not(target_os = "linux"))]
+#[allow(dead_code)] // not every bench uses it
+pub fn thread_cpu_ns() -> f64 {
+    f64::NAN
+}
