@@ -1595,6 +1595,27 @@ fn several_tables_serve_the_contacts_each_covers() {
         assert_eq!(set.forces(), alone.forces(), "{semi_axes:?}");
         assert!(set.forces()[0] < 0.0, "{:?}", set.forces());
     }
+    // the log says which table serves the contact, at the first step by each table; back on the tread
+    // table nothing more (an instance of one table logs none)
+    assert_eq!(set.set("semi_axis_a", 0.0), OK);
+    assert_eq!(set.set("semi_axis_b", 0.0), OK);
+    assert_eq!(set.step(0.0), OK);
+    let served = |f: &Fmu| -> Vec<String> {
+        f.messages()
+            .into_iter()
+            .filter(|m| m.status == OK && m.text.contains("serves this contact"))
+            .map(|m| m.text)
+            .collect()
+    };
+    let events = served(&set);
+    assert_eq!(events.len(), 2, "{events:?}");
+    for (k, (event, dir)) in events.iter().zip(&dirs).enumerate() {
+        assert!(
+            event.contains(&format!("at {} (table {} of 2", path(dir), k + 1)),
+            "{event}"
+        );
+    }
+    assert!(served(&tread).is_empty() && served(&root_only).is_empty());
     // an ellipse between them (a/b 1): the exact solver, one warning naming both tables
     let [a, b] = wheelrail::table::coords::semi_axes(1.0, 0.9e9, 100e3);
     assert_eq!(set.set("semi_axis_a", a), OK);

@@ -203,6 +203,9 @@ pub struct Evaluation {
     /// The contact ellipse and peak pressure (by the exact solver its own; by table Hertz of the table's
     /// geometry, bit for bit the exact solver's).
     pub patch: Patch,
+    /// The index in [`Evaluator::tables`] of the table that evaluated the point (None: the exact solver,
+    /// or a lifted wheel).
+    pub table: Option<usize>,
     /// What the caller may want to report.
     pub notices: Notices,
 }
@@ -231,9 +234,10 @@ impl Evaluation {
     }
 }
 
-/// A point evaluated by the table (possibly clamped): the point's contact ellipse, its peak pressure [Pa]
-/// and the table's evaluation of the point (made to route it: its `in_range` is [`Table::in_range`]).
-struct ByTable<O>(Ellipse, f64, Result<O>);
+/// A point evaluated by the table (possibly clamped): the point's contact ellipse, its peak pressure [Pa],
+/// the table's evaluation of the point (made to route it: its `in_range` is [`Table::in_range`]) and the
+/// table's index in [`Evaluator::tables`].
+struct ByTable<O>(Ellipse, f64, Result<O>, usize);
 
 /// How one point is evaluated: by the table, or (None) by the exact solver.
 type Route<O> = Option<ByTable<O>>;
@@ -373,15 +377,17 @@ impl Evaluator {
     pub fn matches(&self) -> bool {
         let force = crate::table::axes::REFERENCE_FORCE;
         self.contact(&self.model.params().geometry, force)
-            .is_ok_and(|(e, _)| self.matching().any(|t| t.covers(&e, force)))
+            .is_ok_and(|(e, _)| self.matching().any(|(_, t)| t.covers(&e, force)))
     }
 
     /// The tables built for the model's parameters (geometry aside), in order.
-    fn matching(&self) -> impl Iterator<Item = &Table> {
+    /// The tables built for the model's parameters, with their indices in [`Evaluator::tables`].
+    fn matching(&self) -> impl Iterator<Item = (usize, &Table)> {
         self.tables
             .iter()
             .zip(&self.table_params)
-            .filter_map(|(t, p)| p.then_some(t.as_ref()))
+            .enumerate()
+            .filter_map(|(k, (t, p))| p.then_some((k, t.as_ref())))
     }
 
     /// The contact ellipse of `geometry` at normal force `force` [N] (Hertz, docs/model.md §2, or the
@@ -417,7 +423,7 @@ impl Evaluator {
         let Some(first) = self.tables.first() else {
             return Ok((None, None));
         };
-        let Some(built) = self.matching().next() else {
+        let Some((_, built)) = self.matching().next() else {
             return match self.mode {
                 Mode::TableOnly => Err(other_parameters(
                     first,
@@ -434,7 +440,7 @@ impl Evaluator {
         // an invalid one is an error), as `Table::in_range` would: evaluating once is half the cost of
         // asking first
         let (mut held, mut clamped) = (None, None);
-        for table in self.matching() {
+        for (index, table) in self.matching() {
             let Some(output) = O::covered(table, point, &e) else {
                 continue;
             };
@@ -442,26 +448,28 @@ impl Evaluator {
                 let o = o.outputs();
                 (o.in_range, o.resolved, o.converged)
             }) {
-                Ok((true, true, true)) => return Ok((Some(ByTable(e, p0, output)), None)),
+                Ok((true, true, true)) => return Ok((Some(ByTable(e, p0, output, index)), None)),
                 Ok((true, resolved, _)) if held.is_none() => {
                     let why = if resolved {
                         Fallback::UnconvergedNodes
                     } else {
                         Fallback::Unresolved
                     };
-                    held = Some((output, why));
+                    held = Some((output, why, index));
                 }
-                _ if clamped.is_none() => clamped = Some(output),
+                _ if clamped.is_none() => clamped = Some((output, index)),
                 _ => {}
             }
         }
         match (self.mode, held, clamped) {
-            (Mode::TableOnly, Some((output, _)), _) => Ok((Some(ByTable(e, p0, output)), None)),
-            (Mode::TableOnly, None, Some(output)) => {
-                Ok((Some(ByTable(e, p0, output)), Some(Notice::Clamped)))
+            (Mode::TableOnly, Some((output, _, index)), _) => {
+                Ok((Some(ByTable(e, p0, output, index)), None))
+            }
+            (Mode::TableOnly, None, Some((output, index))) => {
+                Ok((Some(ByTable(e, p0, output, index)), Some(Notice::Clamped)))
             }
             (Mode::TableOnly, None, None) => Err(built.outside_geometry(&e, point.normal_force)),
-            (_, Some((_, why)), _) => Ok((None, Some(Notice::FellBack(why)))),
+            (_, Some((_, why, _)), _) => Ok((None, Some(Notice::FellBack(why)))),
             (_, None, Some(_)) => Ok((None, Some(Notice::FellBack(Fallback::OutsideRanges)))),
             (_, None, None) => Ok((None, Some(Notice::FellBack(Fallback::OtherGeometry)))),
         }
@@ -552,14 +560,14 @@ impl Evaluator {
         let Some((solved, route, notices)) = self.prepare::<TableOutput>(input, geometry)? else {
             return Ok(self.lifted());
         };
-        let (mut by, patch) = match route {
-            Some(ByTable(e, p0, output)) => {
+        let (mut by, patch, table) = match route {
+            Some(ByTable(e, p0, output, index)) => {
                 let patch = Patch {
                     semi_axis_a: e.a,
                     semi_axis_b: e.b,
                     peak_pressure: p0,
                 };
-                (Evaluated::Table(output?), patch)
+                (Evaluated::Table(output?), patch, Some(index))
             }
             None => {
                 let e = self.exact(&solved.point, geometry, tolerance, warm)?;
@@ -568,7 +576,7 @@ impl Evaluator {
                     semi_axis_b: e.global.semi_axis_b,
                     peak_pressure: e.global.peak_pressure,
                 };
-                (Evaluated::Exact(e), patch)
+                (Evaluated::Exact(e), patch, None)
             }
         };
         match &mut by {
@@ -577,7 +585,12 @@ impl Evaluator {
             }
             Evaluated::Exact(e) => solved.turn_back(&mut e.global.force_x, &mut e.global.force_y),
         }
-        Ok(Evaluation { by, patch, notices })
+        Ok(Evaluation {
+            by,
+            patch,
+            table,
+            notices,
+        })
     }
 
     /// The Jacobian of [`Evaluator::evaluate`]'s outputs (rows F_x, F_y, M_z, traction coefficient, T_max,
@@ -602,7 +615,7 @@ impl Evaluator {
         else {
             return Ok((None, Notices::default()));
         };
-        let Some(ByTable(_, _, output)) = route else {
+        let Some(ByTable(_, _, output, _)) = route else {
             return Ok((None, notices));
         };
         let (_, jac) = output?;
@@ -629,6 +642,7 @@ impl Evaluator {
                 semi_axis_b: 0.0,
                 peak_pressure: 0.0,
             },
+            table: None,
             notices: Notices::default(),
         }
     }

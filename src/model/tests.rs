@@ -911,6 +911,13 @@ fn several_tables_take_each_point_to_the_first_that_holds_it() {
     let root = Geometry::of_inputs(1.0, 1.0, [a, b]);
     let want = by_table(&with(Mode::Auto, &[&flange]), &inside(), &root);
     assert_eq!(by_table(&set, &inside(), &root), want);
+    // each evaluation names the table that evaluated it by its index in the list (None: exact)
+    let served =
+        |p: &OperatingPoint, g: &Geometry| set.evaluate_at(p, g, None, &mut None).unwrap().table;
+    let at = |speed| OperatingPoint { speed, ..inside() };
+    assert_eq!(served(&at(27.0), &own), Some(0));
+    assert_eq!(served(&at(35.0), &own), Some(1));
+    assert_eq!(served(&inside(), &root), Some(2));
     // a contact no table covers: the exact solver, the reason another geometry
     let [a, b] = crate::table::coords::semi_axes(1.0, 0.9e9, inside().normal_force);
     let between = Geometry::of_inputs(1.0, 1.0, [a, b]);
@@ -918,6 +925,7 @@ fn several_tables_take_each_point_to_the_first_that_holds_it() {
         .evaluate_at(&inside(), &between, None, &mut None)
         .unwrap();
     assert!(matches!(r.by, Evaluated::Exact(_)));
+    assert_eq!(r.table, None);
     assert_eq!(notice_list(&r), [Notice::FellBack(Fallback::OtherGeometry)]);
     // covered but outside every covering table's ranges (60 m/s): the exact solver, outside the ranges
     let fast = OperatingPoint {

@@ -205,9 +205,28 @@ struct Warned {
     wetness: bool,
     /// The routing notices logged.
     routes: Vec<Notice>,
+    /// The tables (indices in the evaluator's list) whose first step was logged.
+    served: Vec<usize>,
 }
 
 impl Warned {
+    /// With several tables in `table_file`: logs (as an event) the first step each table serves, so that
+    /// the log says which table a contact moved to.
+    fn log_table(&mut self, table: Option<usize>, evaluator: &Evaluator, log: &Logger) {
+        let tables = evaluator.tables();
+        let Some(k) = table.filter(|k| tables.len() > 1 && !self.served.contains(k)) else {
+            return;
+        };
+        self.served.push(k);
+        log.event(&format!(
+            "the lookup table at {} (table {} of {} in table_file) serves this contact: its first step \
+             by that table (logged once per table)",
+            tables[k].location(),
+            k + 1,
+            tables.len()
+        ));
+    }
+
     /// Logs the notices not logged before by this instance (as warnings; `status` becomes Warning).
     fn log(&mut self, notices: &Notices, evaluator: &Evaluator, log: &Logger, status: &mut Status) {
         let at = || evaluator.table_locations();
@@ -437,6 +456,7 @@ impl WheelRailModel {
             _ => {}
         }
         let e = result.map_err(|e| fmu_error(e, values))?;
+        self.warned.log_table(e.table, &setup.evaluator, log);
         if !e.notices.is_empty() {
             self.warned
                 .log(&e.notices, &setup.evaluator, log, &mut status);
