@@ -369,11 +369,7 @@ fn parse_loads(text: &str) -> Result<[f64; 2]> {
         value: text.into(),
         allowed: "MIN,MAX [N], finite, 0 < MIN <= MAX".into(),
     };
-    let (lo, hi) = text.split_once(',').ok_or_else(bad)?;
-    let (lo, hi): (f64, f64) = (
-        lo.trim().parse().map_err(|_| bad())?,
-        hi.trim().parse().map_err(|_| bad())?,
-    );
+    let [lo, hi] = super::pair("loads", text).map_err(|_| bad())?;
     if !(lo > 0.0 && lo <= hi && hi.is_finite()) {
         bail!(bad());
     }
