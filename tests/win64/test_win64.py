@@ -182,6 +182,12 @@ class Plan:
     def mark(self, name, start):
         self.marks[name] = (start, len(self.lines))
 
+    def part(self, start, end):
+        """Lines start..end of the plan (with their checks) as a plan of their own."""
+        sub = Plan((self.guid, self.variables), self.paths)
+        sub.lines, sub.checks = self.lines[start:end], self.checks[start:end]
+        return sub
+
     def vr(self, name):
         return self.variables[name][0]
 
@@ -706,8 +712,7 @@ def test_states_cross_platforms(runs):
             assert pathlib.Path(written).read_bytes() == pathlib.Path(again).read_bytes(), (written, again)
         # continued on the other platform as on the platform that wrote the state
         (a, b), (c, d) = main.marks["continued-" + name], resume.marks["continued-" + name]
-        sub = Plan((main.guid, main.variables), None)
-        sub.lines, sub.checks = main.lines[a:b], main.checks[a:b]
+        sub = main.part(a, b)
         assert [line.split()[1:] for line in resume.lines[c:d]] == [line.split()[1:] for line in sub.lines]
         for direction, own, restored, paths in (
             ("linux-to-windows", linux_main[a:b], windows_resume[c:d], (linux_paths, windows_paths)),
@@ -718,7 +723,6 @@ def test_states_cross_platforms(runs):
             report(f"state-{name}-{direction}", stats["table" if name == "table" else "exact"])
     # the restored warm start matters: without it the exact solver's outputs differ by more than the tolerance
     (a, b), (c, d) = resume.marks["continued-exact"], resume.marks["cold-exact"]
-    sub = Plan((main.guid, main.variables), None)
-    sub.lines, sub.checks = resume.lines[a:b], resume.checks[a:b]
+    sub = resume.part(a, b)
     problems, _ = compare(sub, linux_resume[a:b], linux_resume[c:d], (linux_paths, linux_paths))
     assert problems, "a cold start continued as the restored state did: the test cannot tell them apart"
