@@ -2,6 +2,7 @@
 //! are in cli/tests).
 
 mod architecture;
+mod fallback_grid;
 mod fluid;
 mod fmu;
 mod solver;

@@ -2,16 +2,19 @@
 //! (`tools/mbs_trace.py`, written to target/mbs_trace.csv by `make bench`; another file: environment
 //! variable `WHEELRAIL_TRACE`), every step through the exported C functions on one thread: set the row's
 //! inputs and `fmi2DoStep` (timed together, as a master pays them), then `force_longitudinal`,
-//! `force_lateral` and `evaluation_mode` (not timed). The bundled table (fmu/resources/table) in
-//! `mode` 1 (table only), 0 (auto) and 2 (exact only, the reference), default grid, warm start on; and
-//! mode 2 on the grids 7 × 7, 9 × 9, 15 × 15 and 20 × 20 (the exact step's cost against its force error).
+//! `force_lateral`, `max_temperature` and `evaluation_mode` (not timed). The bundled table
+//! (fmu/resources/table) in `mode` 1 (table only) and 0 (auto) with `grid_size` automatic (mode 0 solves
+//! the points the table does not serve on the grid per contact) and 2 (exact only, the reference) with
+//! `grid_size` 30, warm start on; and mode 2 on the grids 7 × 7, 9 × 9, 15 × 15 and 20 × 20 (the exact
+//! step's cost against its error).
 //!
 //! Per mode: how many steps the FMU evaluated by table and by the exact solver, and how many it refused
 //! (`fmi2Error`; mode 1 refuses a geometry other than its table's: the pass goes on in a fresh
-//! instance); the time per step (mean, p99, max over the evaluated steps, by path too; passes are
-//! repeated in fresh instances while they add up to less than [`TIMING_BUDGET`]); the force error
-//! against mode 2 at every evaluated step, |ΔF_x|/F_N, |ΔF_y|/F_N and |ΔF|/F_N (mean, p99, max; over all
-//! steps, the table's and the exact solver's). Written to target/bench/mbs_trace.json for `tools/bench_report.py`.
+//! instance); the time per step (mean, p99, max over the evaluated steps, by path, by path and wetness
+//! too; passes are repeated in fresh instances while they add up to less than [`TIMING_BUDGET`]) and the
+//! real-time factor (simulated time over wall time, of one contact and of eight stepped on one thread);
+//! the error against mode 2 at every evaluated step, |ΔF_x|/F_N, |ΔF_y|/F_N, |ΔF|/F_N and |ΔT_max|
+//! (mean, p99, max; over all steps, the table's and the exact solver's). Written to target/bench/mbs_trace.json for `tools/bench_report.py`.
 //! Criterion then times whole passes over the steps a mode evaluates (criterion group `mbs_trace`,
 //! throughput = steps per pass) for the modes whose pass takes at most [`CRITERION_PASS_BUDGET`]: a
 //! mode whose steps fall back to the exact solver (milliseconds each) is timed by its single pass only.
@@ -25,7 +28,8 @@
 //! reference mode 2 on the default grid (always run: the force errors are against it).
 
 use WheelRailFriction::contact::variables::{
-    DEFAULT_GRID_SIZE, EVALUATION_MODE, FORCE_LATERAL, FORCE_LONGITUDINAL, VARIABLES,
+    AUTOMATIC_GRID_SIZE, DEFAULT_GRID_SIZE, EVALUATION_MODE, FORCE_LATERAL, FORCE_LONGITUDINAL,
+    MAX_TEMPERATURE, VARIABLES,
 };
 use WheelRailFriction::exports::*;
 use WheelRailFriction::fmi2::ffi::Fmi2Component;
@@ -46,6 +50,9 @@ const TIMING_BUDGET: Duration = Duration::from_secs(1);
 const MAX_TIMING_PASSES: usize = 100;
 /// The longest pass criterion repeats (it takes at least 11 passes).
 const CRITERION_PASS_BUDGET: Duration = Duration::from_millis(250);
+/// The contacts of a vehicle (two wheelsets per bogie, two bogies, one contact per wheel) for its
+/// real-time factor.
+const VEHICLE_CONTACTS: usize = 8;
 /// `fmi2Error`.
 const FMI2_ERROR: i32 = 3;
 
@@ -147,12 +154,13 @@ struct Mode {
 const TABLE_ONLY: Mode = Mode {
     code: 1,
     name: "table only",
-    grid: DEFAULT_GRID_SIZE,
+    grid: AUTOMATIC_GRID_SIZE,
 };
+/// Mode 0 with `grid_size` automatic: the points the table does not serve on the grid per contact.
 const AUTO: Mode = Mode {
     code: 0,
     name: "auto",
-    grid: DEFAULT_GRID_SIZE,
+    grid: AUTOMATIC_GRID_SIZE,
 };
 const EXACT: Mode = Mode {
     code: 2,
@@ -190,6 +198,8 @@ const EXACT_COARSE: [Mode; 4] = [
 struct Outcome {
     force_x: f64,
     force_y: f64,
+    /// `max_temperature` [K].
+    max_temperature: f64,
     /// `evaluation_mode`: 1 table, 2 exact.
     path: i32,
     /// Time of setting the inputs and `fmi2DoStep` [ns].
@@ -373,17 +383,22 @@ fn pass(instances: &Instances, mode: Mode, trace: &Trace, steps: &[usize]) -> Ve
                 return None;
             }
             assert!(status <= 1, "fmi2DoStep status {status} at row {k}");
-            let vrs = [FORCE_LONGITUDINAL as u32, FORCE_LATERAL as u32];
-            let mut forces = [0.0; 2];
-            assert_eq!(fmi2GetReal(fmu, vrs.as_ptr(), 2, forces.as_mut_ptr()), 0);
+            let vrs = [
+                FORCE_LONGITUDINAL as u32,
+                FORCE_LATERAL as u32,
+                MAX_TEMPERATURE as u32,
+            ];
+            let mut out = [0.0; 3];
+            assert_eq!(fmi2GetReal(fmu, vrs.as_ptr(), 3, out.as_mut_ptr()), 0);
             let mut path = 0;
             assert_eq!(
                 fmi2GetInteger(fmu, &(EVALUATION_MODE as u32), 1, &mut path),
                 0
             );
             Some(Outcome {
-                force_x: forces[0],
-                force_y: forces[1],
+                force_x: out[0],
+                force_y: out[1],
+                max_temperature: out[2],
                 path,
                 nanos: time.wall.as_nanos() as f64,
                 cpu_nanos: time.cpu_ns,
@@ -417,14 +432,14 @@ fn stats(values: &[f64]) -> Value {
 }
 
 /// The force errors of `outcomes` against `reference` at the evaluated steps `keep` selects, relative to
-/// |F_N| of each step.
+/// |F_N| of each step, and the errors of T_max [K].
 fn errors(
     trace: &Trace,
     outcomes: &[Option<Outcome>],
     reference: &[Option<Outcome>],
     keep: impl Fn(&Outcome) -> bool,
 ) -> Value {
-    let (mut dx, mut dy, mut d) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut dx, mut dy, mut d, mut dt) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (k, (o, r)) in outcomes.iter().zip(reference).enumerate() {
         if let (Some(o), Some(r)) = (o, r)
             && keep(o)
@@ -434,9 +449,15 @@ fn errors(
             dx.push(ex.abs() / f);
             dy.push(ey.abs() / f);
             d.push(ex.hypot(ey) / f);
+            dt.push((o.max_temperature - r.max_temperature).abs());
         }
     }
-    json!({"force_x": stats(&dx), "force_y": stats(&dy), "force": stats(&d)})
+    json!({
+        "force_x": stats(&dx),
+        "force_y": stats(&dy),
+        "force": stats(&d),
+        "max_temperature_k": stats(&dt),
+    })
 }
 
 /// The measurement of one mode: a first pass over the whole trace (outcomes, errors), then timing passes
@@ -487,6 +508,8 @@ fn measure(
             .collect()
     };
     let time_of = |p, wet| select(p, wet, false);
+    // simulated time per step over the mean wall time per step
+    let real_time_factor = trace.step / (Stats::of(&time_of(None, None)).mean * 1e-9);
     let cpu_of = |wet| select(None, wet, true);
     let mut report = json!({
         "mode": mode.code,
@@ -503,6 +526,12 @@ fn measure(
         "time_per_step_ns_by_exact": stats(&time_of(Some(2), None)),
         "time_per_step_ns_dry": stats(&time_of(None, Some(false))),
         "time_per_step_ns_wet": stats(&time_of(None, Some(true))),
+        "time_per_step_ns_by_exact_dry": stats(&time_of(Some(2), Some(false))),
+        "time_per_step_ns_by_exact_wet": stats(&time_of(Some(2), Some(true))),
+        // simulated time over the wall time of the steps (one contact), and of eight such contacts
+        // stepped one after another on one thread
+        "real_time_factor": real_time_factor,
+        "real_time_factor_8_contacts": real_time_factor / VEHICLE_CONTACTS as f64,
         "cpu_time_per_step_ns": stats(&cpu_of(None)),
         "cpu_time_per_step_ns_dry": stats(&cpu_of(Some(false))),
         "cpu_time_per_step_ns_wet": stats(&cpu_of(Some(true))),
@@ -644,12 +673,35 @@ fn mbs_trace(c: &mut Criterion) {
                 m[ratio]["mean"].as_f64().unwrap_or(f64::NAN),
             );
         }
+        let (xd, xw) = (
+            &m["time_per_step_ns_by_exact_dry"],
+            &m["time_per_step_ns_by_exact_wet"],
+        );
+        println!(
+            "    exact steps: dry mean {:.3} µs, p99 {:.3} µs; wet mean {:.3} µs, p99 {:.3} µs; real-time factor {:.2} (1 contact), {:.2} (8 contacts, one thread)",
+            us(&xd["mean"]),
+            us(&xd["p99"]),
+            us(&xw["mean"]),
+            us(&xw["p99"]),
+            m["real_time_factor"].as_f64().unwrap_or(f64::NAN),
+            m["real_time_factor_8_contacts"]
+                .as_f64()
+                .unwrap_or(f64::NAN),
+        );
         if let Some(e) = m.get("error_vs_exact") {
+            let f = |x: &Value| x.as_f64().unwrap_or(f64::NAN);
+            let (force, t) = (
+                &e["all_steps"]["force"],
+                &e["all_steps"]["max_temperature_k"],
+            );
             println!(
-                "    |ΔF|/F_N against mode 2: mean {:.2e}, p99 {:.2e}, max {:.2e}",
-                e["all_steps"]["force"]["mean"].as_f64().unwrap_or(f64::NAN),
-                e["all_steps"]["force"]["p99"].as_f64().unwrap_or(f64::NAN),
-                e["all_steps"]["force"]["max"].as_f64().unwrap_or(f64::NAN),
+                "    against mode 2: |ΔF|/F_N mean {:.2e}, p99 {:.2e}, max {:.2e}; |ΔT_max| mean {:.2} K, p99 {:.2} K, max {:.2} K",
+                f(&force["mean"]),
+                f(&force["p99"]),
+                f(&force["max"]),
+                f(&t["mean"]),
+                f(&t["p99"]),
+                f(&t["max"]),
             );
         }
     }

@@ -23,14 +23,14 @@ mod tests;
 
 pub use policy::{
     DEFAULT_MINIMUM_SPEED, DERIVATIVE_TOLERANCE, Evaluated, Evaluation, Evaluator, ExactResults,
-    Fallback, LIFT_OFF_LOAD, Mode, Notice, Notices, Patch, Policy,
+    Fallback, FallbackGrid, LIFT_OFF_LOAD, Mode, Notice, Notices, Patch, Policy,
 };
 
 use crate::error::Result;
-use crate::params::{Geometry, OperatingPoint, Params};
+use crate::params::{Geometry, GridParams, OperatingPoint, Params};
 /// Where an exact solve can start from (the state of a nearby solution), as the evaluator takes it.
 pub use crate::solver::WarmStart;
-use crate::solver::{self, SetupCache, Solution};
+use crate::solver::{self, ContactShape, SetupCache, Solution};
 use std::borrow::Cow;
 use std::sync::Arc;
 
@@ -143,15 +143,34 @@ impl Model {
         solver::solve_sweep(&self.params, points)
     }
 
-    /// The model with `geometry` (validated by the caller) and the coupled solver's tolerance tightened to
-    /// at most `tolerance` if given (for the evaluations behind finite differences): this model itself
-    /// when nothing changes, else a copy.
-    fn with(&self, geometry: &Geometry, tolerance: Option<f64>) -> Cow<'_, Model> {
-        if *geometry == self.params.geometry && tolerance.is_none() {
+    /// The contact shape of `geometry` with the model's material (from the set-up cache, which the next
+    /// solve of that geometry finds it in).
+    fn shape_of(&self, geometry: &Geometry) -> Result<ContactShape> {
+        self.cache.shape(geometry, &self.params.material)
+    }
+
+    /// The model with `geometry` (validated by the caller), the grid of `cells` [nx, ny] if given and the
+    /// coupled solver's tolerance tightened to at most `tolerance` if given (for the evaluations behind
+    /// finite differences): this model itself when nothing changes, else a copy.
+    fn with(
+        &self,
+        geometry: &Geometry,
+        cells: Option<[usize; 2]>,
+        tolerance: Option<f64>,
+    ) -> Cow<'_, Model> {
+        let cells = cells.filter(|c| *c != self.params.grid.cells());
+        if *geometry == self.params.geometry && cells.is_none() && tolerance.is_none() {
             return Cow::Borrowed(self);
         }
         let mut params = self.params.clone();
         params.geometry = geometry.clone();
+        if let Some([nx, ny]) = cells {
+            params.grid = GridParams {
+                nx,
+                ny,
+                accuracy: 0.0,
+            };
+        }
         if let Some(t) = tolerance {
             params.solver.tolerance = params.solver.tolerance.min(t);
         }

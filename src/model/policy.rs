@@ -34,7 +34,7 @@
 use super::Model;
 use super::frame::Solved;
 use crate::error::{Error, Result, check_finite, check_positive};
-use crate::params::{Geometry, OperatingPoint};
+use crate::params::{FrictionLaw, Geometry, GridParams, OperatingPoint, fallback_cells};
 use crate::solver::{ContactShape, GlobalResults, SolverReport, WarmStart};
 
 use crate::table::{Ellipse, Jacobian, Table, TableOutput, other_parameters};
@@ -77,6 +77,8 @@ pub struct Policy {
     pub minimum_speed: f64,
     /// A normal force at or below this load lifts the wheel [N] (finite).
     pub lift_off_load: f64,
+    /// The grid of mode auto's exact solves.
+    pub fallback_grid: FallbackGrid,
 }
 
 impl Default for Policy {
@@ -84,8 +86,23 @@ impl Default for Policy {
         Policy {
             minimum_speed: DEFAULT_MINIMUM_SPEED,
             lift_off_load: LIFT_OFF_LOAD,
+            fallback_grid: FallbackGrid::default(),
         }
     }
+}
+
+/// The grid on which mode auto solves the points no table serves (mode exact-only always solves on the
+/// model's grid, the reference).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FallbackGrid {
+    /// Where the model keeps the default grid (`grid` unset: 30 × 30, no accuracy target), the grid of each
+    /// evaluation's contact ellipse and film ([`crate::params::fallback_cells`]: 24 cells along x and 6 to 12
+    /// across, the cheapest that meet the bundled table's accuracy against 30 × 30, docs/model.md §6.4);
+    /// otherwise the model's grid.
+    #[default]
+    PerContact,
+    /// Always the model's grid.
+    Model,
 }
 
 impl Policy {
@@ -159,6 +176,8 @@ pub struct ExactResults {
     pub global: GlobalResults,
     /// How the coupled solve went (iterations, residual, converged).
     pub report: SolverReport,
+    /// The cells [nx, ny] of the grid it was solved on (mode auto's fallback grid, or the model's).
+    pub cells: [usize; 2],
 }
 
 /// What evaluated an operating point, with its results in the caller's frame.
@@ -427,7 +446,7 @@ impl Evaluator {
             return match self.mode {
                 Mode::TableOnly => Err(other_parameters(
                     first,
-                    self.model.with(geometry, None).params(),
+                    self.model.with(geometry, None, None).params(),
                 )),
                 _ => Ok((None, Some(Notice::FellBack(Fallback::OtherParameters)))),
             };
@@ -557,6 +576,20 @@ impl Evaluator {
         tolerance: Option<f64>,
         warm: &mut Option<WarmStart>,
     ) -> Result<Evaluation> {
+        self.evaluate_on(input, geometry, None, tolerance, warm)
+    }
+
+    /// [`Evaluator::evaluate_at`] with an exact solve on `cells` [nx, ny] if given (e.g. those
+    /// [`Evaluator::exact_cells`] gave for a nearby point: the evaluations behind a finite difference keep
+    /// one grid), else on the grid the policy chooses.
+    pub fn evaluate_on(
+        &self,
+        input: &OperatingPoint,
+        geometry: &Geometry,
+        cells: Option<[usize; 2]>,
+        tolerance: Option<f64>,
+        warm: &mut Option<WarmStart>,
+    ) -> Result<Evaluation> {
         let Some((solved, route, notices)) = self.prepare::<TableOutput>(input, geometry)? else {
             return Ok(self.lifted());
         };
@@ -570,7 +603,9 @@ impl Evaluator {
                 (Evaluated::Table(output?), patch, Some(index))
             }
             None => {
-                let e = self.exact(&solved.point, geometry, tolerance, warm)?;
+                let cells =
+                    cells.map_or_else(|| self.fallback_cells(&solved.point, geometry), Ok)?;
+                let e = self.exact(&solved.point, geometry, cells, tolerance, warm)?;
                 let patch = Patch {
                     semi_axis_a: e.global.semi_axis_a,
                     semi_axis_b: e.global.semi_axis_b,
@@ -647,21 +682,55 @@ impl Evaluator {
         }
     }
 
-    /// The exact solver's results at a point of the solved frame with `geometry` (see
+    /// The cells [nx, ny] on which an exact solve of `input` (in the caller's frame) with `geometry` would
+    /// run: the model's grid, or in mode auto the policy's [`FallbackGrid`]. Errors: invalid input or
+    /// geometry (as [`Evaluator::evaluate_at`]).
+    pub fn exact_cells(&self, input: &OperatingPoint, geometry: &Geometry) -> Result<[usize; 2]> {
+        if input.normal_force <= self.policy.lift_off_load {
+            // a lifted wheel solves nothing
+            return Ok(self.model.params().grid.cells());
+        }
+        if *geometry != self.model.params().geometry {
+            geometry.validate()?;
+        }
+        let solved = Solved::of(input, self.policy.minimum_speed);
+        solved.check(input)?;
+        self.fallback_cells(&solved.point, geometry)
+    }
+
+    /// The cells of an exact solve of `point` (in the solved frame): the per-contact fallback grid
+    /// ([`crate::params::fallback_cells`] of the Hertz ellipse at the point's normal force and of its film)
+    /// in mode auto with [`FallbackGrid::PerContact`] and the default grid, else the model's grid.
+    fn fallback_cells(&self, point: &OperatingPoint, geometry: &Geometry) -> Result<[usize; 2]> {
+        let params = self.model.params();
+        let per_contact = self.mode == Mode::Auto
+            && self.policy.fallback_grid == FallbackGrid::PerContact
+            && params.grid == GridParams::default();
+        if !per_contact {
+            return Ok(params.grid.cells());
+        }
+        let hertz = self.model.shape_of(geometry)?.contact(point.normal_force)?;
+        let wet = point.wetness > 0.0 && params.friction.law == FrictionLaw::Tomberger;
+        Ok(fallback_cells(hertz.a, hertz.b, wet))
+    }
+
+    /// The exact solver's results at a point of the solved frame with `geometry` on `cells` (see
     /// [`Evaluator::evaluate_at`]).
     fn exact(
         &self,
         point: &OperatingPoint,
         geometry: &Geometry,
+        cells: [usize; 2],
         tolerance: Option<f64>,
         warm: &mut Option<WarmStart>,
     ) -> Result<Box<ExactResults>> {
-        let model = self.model.with(geometry, tolerance);
+        let model = self.model.with(geometry, Some(cells), tolerance);
         let s = model.solve_from(point, warm.as_ref())?;
         *warm = s.warm_start();
         Ok(Box::new(ExactResults {
             global: s.global,
             report: s.report,
+            cells,
         }))
     }
 }

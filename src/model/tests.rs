@@ -730,7 +730,7 @@ fn a_reused_setup_gives_the_bits_of_a_fresh_one() {
     let mut warm = None;
     for (k, (point, geometry, reused)) in steps.into_iter().enumerate() {
         let before = model.setup_reuses();
-        let with = model.with(&geometry, None);
+        let with = model.with(&geometry, None, None);
         let cached = with.solve_from(&point, warm.as_ref()).unwrap();
         assert_eq!(model.setup_reuses() - before, reused, "step {k}");
         let mut fresh = params();
@@ -1027,4 +1027,95 @@ fn auto_solves_points_interpolated_from_unconverged_table_points_and_table_only_
     let flagged = with_last_wetness_nodes(|f, i| f.converged[i] = 0);
     let o = auto_solves_inside_exactly(&flagged, Fallback::UnconvergedNodes);
     assert!(o.resolved && !o.converged);
+}
+
+/// Mode auto solves the points no table serves on the grid of each contact ([`fallback_cells`] of its
+/// Hertz ellipse and film) where the model keeps the default grid: the bits of the model solved on that
+/// grid, which the results name. The model's grid with [`FallbackGrid::Model`], in mode exact-only and
+/// where the parameters set a grid; given cells override both.
+#[test]
+fn auto_falls_back_on_the_grid_of_each_contact() {
+    use crate::params::fallback_cells;
+    let default = Params::default();
+    let long = Geometry::of_inputs(0.92, 3.5, [0.0, 0.0]);
+    let with = |mode, params: Params, fallback_grid| {
+        Evaluator::new(
+            Model::new(params).unwrap(),
+            mode,
+            Some(table()),
+            Policy {
+                fallback_grid,
+                ..Policy::default()
+            },
+        )
+        .unwrap()
+    };
+    let auto = with(Mode::Auto, default.clone(), FallbackGrid::PerContact);
+    let dry = OperatingPoint {
+        wetness: 0.0,
+        ..inside()
+    };
+    let wet = inside();
+    let mut grids = Vec::new();
+    for p in [dry, wet] {
+        let cells = auto.exact_cells(&p, &long).unwrap();
+        let hertz = crate::solver::ContactShape::of(&long, &default.material)
+            .unwrap()
+            .contact(p.normal_force)
+            .unwrap();
+        assert!(hertz.a > 2.0 * hertz.b, "a long contact");
+        assert_eq!(cells, fallback_cells(hertz.a, hertz.b, p.wetness > 0.0));
+        let r = auto.evaluate_at(&p, &long, None, &mut None).unwrap();
+        assert_eq!(
+            notice_list(&r),
+            [Notice::FellBack(Fallback::OtherParameters)]
+        );
+        let Evaluated::Exact(x) = &r.by else {
+            panic!("the exact solver evaluates")
+        };
+        assert_eq!(x.cells, cells);
+        let mut on = default.clone();
+        on.geometry = long.clone();
+        [on.grid.nx, on.grid.ny] = cells;
+        assert_eq!(x.global, crate::solve(&on, &p).unwrap().global);
+        grids.push(cells);
+    }
+    // a film needs more lateral cells on a long contact
+    assert_eq!(grids, [[24, 6], [24, 12]]);
+    let cells_of = |e: &Evaluator| e.exact_cells(&wet, &long).unwrap();
+    assert_eq!(
+        cells_of(&with(Mode::Auto, default.clone(), FallbackGrid::Model)),
+        [30, 30]
+    );
+    assert_eq!(
+        cells_of(&with(
+            Mode::ExactOnly,
+            default.clone(),
+            FallbackGrid::PerContact
+        )),
+        [30, 30]
+    );
+    assert_eq!(
+        cells_of(&with(Mode::Auto, params(), FallbackGrid::PerContact)),
+        [6, 6]
+    );
+    let mut by_accuracy = default.clone();
+    by_accuracy.grid.accuracy = 0.01;
+    assert_eq!(
+        cells_of(&with(Mode::Auto, by_accuracy, FallbackGrid::PerContact)),
+        [10, 10]
+    );
+    // given cells, and a lifted wheel (nothing solved: the model's grid)
+    let r = auto
+        .evaluate_on(&wet, &long, Some([8, 6]), None, &mut None)
+        .unwrap();
+    let Evaluated::Exact(x) = &r.by else {
+        panic!("the exact solver evaluates")
+    };
+    assert_eq!(x.cells, [8, 6]);
+    let lifted = OperatingPoint {
+        normal_force: 0.0,
+        ..wet
+    };
+    assert_eq!(auto.exact_cells(&lifted, &long).unwrap(), [30, 30]);
 }

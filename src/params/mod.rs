@@ -392,6 +392,51 @@ impl GridParams {
     }
 }
 
+/// Cells along the rolling direction x of the per-contact fallback grid ([`fallback_cells`]): what the
+/// peak temperature needs (docs/model.md §6.4). A coarse grid underestimates T_max mostly through the cells
+/// along x (the frictional heat of a cell lags its centre by up to half a cell), not across: T_max within
+/// 10 K of 30 × 30 needs about 24 cells along x at the flange root, however few across.
+pub const FALLBACK_CELLS_X: usize = 24;
+/// Fewest lateral cells of the per-contact fallback grid on a dry contact (the forces within 1 % of F_N of
+/// 30 × 30; docs/model.md §6.4).
+pub const FALLBACK_MIN_CELLS_Y_DRY: usize = 6;
+/// Fewest lateral cells of the per-contact fallback grid on a wet contact shorter than
+/// [`FALLBACK_LONG_CONTACT`] (the film's forces need more lateral cells than the dry ones).
+pub const FALLBACK_MIN_CELLS_Y_WET: usize = 8;
+/// Fewest lateral cells of the per-contact fallback grid on a wet contact with a/b ≥ [`FALLBACK_LONG_CONTACT`]
+/// (a flange-root contact: the film across its narrow width needs them).
+pub const FALLBACK_MIN_CELLS_Y_WET_LONG: usize = 12;
+/// a/b from which a wet contact counts as long ([`FALLBACK_MIN_CELLS_Y_WET_LONG`]) [-].
+pub const FALLBACK_LONG_CONTACT: f64 = 2.0;
+/// Largest cell aspect h_y/h_x of the per-contact fallback grid: a wide contact (a/b < 1) gets the lateral
+/// cells that keep its cells within it [-].
+pub const FALLBACK_MAX_CELL_ASPECT: f64 = 6.0;
+
+/// The per-contact fallback grid [nx, ny] of a contact ellipse with semi-axes a (along x) and b [m], dry or
+/// `wet` (a film is modelled: wetness > 0 under the Tomberger law): [`FALLBACK_CELLS_X`] along x; across, the
+/// fewest lateral cells of its kind ([`FALLBACK_MIN_CELLS_Y_DRY`], [`FALLBACK_MIN_CELLS_Y_WET`],
+/// [`FALLBACK_MIN_CELLS_Y_WET_LONG`]), or more where cells of that many would be longer across than
+/// [`FALLBACK_MAX_CELL_ASPECT`] times along x (h_y/h_x = (b/a)·nx/ny), at most [`GRID_REFERENCE`]. The cheapest
+/// grids measured to meet the bundled table's accuracy against 30 × 30 (|ΔF|/F_N ≤ 1 %, T_max within 10 K;
+/// docs/model.md §6.4). Mode auto's exact solves take it where the parameters keep the default grid
+/// (the evaluation policy's `FallbackGrid`).
+pub fn fallback_cells(a: f64, b: f64, wet: bool) -> [usize; 2] {
+    let nx = FALLBACK_CELLS_X;
+    let fewest = match wet {
+        false => FALLBACK_MIN_CELLS_Y_DRY,
+        true if a >= FALLBACK_LONG_CONTACT * b => FALLBACK_MIN_CELLS_Y_WET_LONG,
+        true => FALLBACK_MIN_CELLS_Y_WET,
+    };
+    // cells across that keep h_y/h_x = (b/a)·nx/ny within the aspect bound (a NaN ratio keeps the fewest)
+    let for_aspect = (b / a * nx as f64 / FALLBACK_MAX_CELL_ASPECT).ceil();
+    let ny = if for_aspect > fewest as f64 {
+        for_aspect.min(GRID_REFERENCE as f64) as usize
+    } else {
+        fewest
+    };
+    [nx, ny]
+}
+
 /// Coupled fixed-point iteration (docs/model.md §9).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -558,6 +603,31 @@ impl OperatingPoint {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_fallback_grid_follows_the_contact_shape_and_the_film() {
+        // a dry flange-root contact (a/b = 3.8) and a dry round one: the fewest lateral cells
+        assert_eq!(fallback_cells(7.6e-3, 2e-3, false), [24, 6]);
+        assert_eq!(fallback_cells(5e-3, 5e-3, false), [24, 6]);
+        // wet: more lateral cells, most on a long contact (from a/b = 2 on)
+        assert_eq!(fallback_cells(5e-3, 5e-3, true), [24, 8]);
+        assert_eq!(fallback_cells(3.99e-3, 2e-3, true), [24, 8]);
+        assert_eq!(fallback_cells(4e-3, 2e-3, true), [24, 12]);
+        assert_eq!(fallback_cells(7.6e-3, 2e-3, true), [24, 12]);
+        // a wide contact: cells no longer across than six times along x, h_y/h_x = (b/a)·nx/ny
+        assert_eq!(fallback_cells(2e-3, 4e-3, false), [24, 8]);
+        assert_eq!(fallback_cells(1e-3, 1e-2, true), [24, 40]);
+        for (a, b, wet) in [(2e-3, 4e-3, false), (1e-3, 1e-2, true), (3e-3, 7e-3, false)] {
+            let [nx, ny] = fallback_cells(a, b, wet);
+            let aspect = (b / a) * nx as f64 / ny as f64;
+            assert!(aspect <= FALLBACK_MAX_CELL_ASPECT, "{a} {b}: {aspect}");
+            // one lateral cell fewer would exceed the bound
+            assert!((b / a) * nx as f64 / (ny - 1) as f64 > FALLBACK_MAX_CELL_ASPECT);
+        }
+        // at most the reference grid across, and a non-finite ratio keeps the fewest cells
+        assert_eq!(fallback_cells(1e-6, 1.0, false), [24, GRID_REFERENCE]);
+        assert_eq!(fallback_cells(f64::NAN, 1e-3, false), [24, 6]);
+    }
 
     #[test]
     fn an_accuracy_target_chooses_the_smallest_measured_grid_meeting_it() {

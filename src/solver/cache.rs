@@ -155,7 +155,7 @@ impl SetupCache {
     }
 
     /// [`ContactShape::of`] `geometry` and `material`.
-    pub(super) fn shape(&self, geometry: &Geometry, material: &Material) -> Result<ContactShape> {
+    pub(crate) fn shape(&self, geometry: &Geometry, material: &Material) -> Result<ContactShape> {
         get_or_make(
             self,
             |e| &mut e.shape,

@@ -291,6 +291,17 @@ pub fn grid_arg(text: &str) -> Result<(usize, usize)> {
 }
 
 impl ModelArgs {
+    /// Whether the command line sets the grid (`--grid` or `--grid-accuracy`): then mode auto solves the
+    /// points no table serves on it too, not on the per-contact fallback grid.
+    pub fn sets_grid(&self) -> bool {
+        self.grid.is_some()
+            || self
+                .values
+                .params
+                .iter()
+                .any(|(key, _)| *key == Param::GridAccuracy)
+    }
+
     /// The parameter set: defaults, then the parameter file, then the flags; validated.
     pub fn params(&self) -> Result<Params> {
         let mut p = match &self.params {

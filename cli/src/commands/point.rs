@@ -7,7 +7,9 @@ use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 use std::sync::Arc;
-use wheelrail::model::{Evaluated, Evaluation, Evaluator, Fallback, Mode, Notice, Policy};
+use wheelrail::model::{
+    Evaluated, Evaluation, Evaluator, Fallback, FallbackGrid, Mode, Notice, Policy,
+};
 use wheelrail::table::Table;
 use wheelrail::{Error, Model, OperatingPoint};
 
@@ -78,6 +80,12 @@ pub fn run(a: &PointArgs) -> Result<()> {
     };
     let policy = Policy {
         minimum_speed: MINIMUM_SPEED,
+        // a grid on the command line is the fallback's grid too (a parameter file's other than the
+        // default grid is, by the library's rule)
+        fallback_grid: match a.model.sets_grid() {
+            true => FallbackGrid::Model,
+            false => FallbackGrid::PerContact,
+        },
         ..Policy::default()
     };
     let evaluator = Evaluator::with_tables(model, mode, tables, policy)?;
@@ -150,7 +158,12 @@ fn json(
 ) -> Result<serde_json::Value> {
     let params = evaluator.model().params();
     let (mut v, by) = match &e.by {
-        Evaluated::Exact(x) => (solution_json(params, &x.global, &x.report), "exact"),
+        Evaluated::Exact(x) => {
+            let mut v = solution_json(params, &x.global, &x.report);
+            // the grid it was solved on: mode auto's fallback grid may differ from the parameters'
+            v["grid_cells"] = serde_json::json!(x.cells);
+            (v, "exact")
+        }
         Evaluated::Table(o) => (super::table::point_json(params, input, o)?, "table"),
         Evaluated::Lifted(o) => {
             let mut v = serde_json::json!({

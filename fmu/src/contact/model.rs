@@ -44,8 +44,9 @@ use crate::fmi2::model::{Model, ModelInfo};
 use crate::fmi2::variables::{Causality, Value, Values};
 use std::path::{Path, PathBuf};
 use wheelrail::model::{
-    DERIVATIVE_TOLERANCE, Evaluated, Evaluation, Evaluator, Fallback, LIFT_OFF_LOAD,
-    Mode::ExactOnly, Notice, Notices, Policy, WarmStart,
+    DERIVATIVE_TOLERANCE, Evaluated, Evaluation, Evaluator, Fallback, FallbackGrid, LIFT_OFF_LOAD,
+    Mode::{Auto, ExactOnly},
+    Notice, Notices, Policy, WarmStart,
 };
 use wheelrail::params::{Geometry, Key, Param, Tangential};
 use wheelrail::table::{Jacobian, TableOutput};
@@ -116,8 +117,9 @@ struct Setup {
     minimum_speed: u64,
     /// The library's policy for these parameters.
     evaluator: Evaluator,
-    /// The same model in mode exact-only: the evaluations behind finite differences, which must not mix
-    /// the table with the exact solver (a geometry seed leaves the table).
+    /// The same model without a table, for the evaluations behind finite differences, which must not mix
+    /// the table with the exact solver (a geometry seed leaves the table): in mode 2 exact-only (the
+    /// model's grid), else auto (the grid of mode 0's fallback).
     exact: Evaluator,
     /// The table Jacobian (in the FMU's frame) at the last inputs a directional derivative was asked for
     /// (a master asks for one seed direction per call, all at the same point).
@@ -177,8 +179,19 @@ impl Setup {
                 let policy = Policy {
                     minimum_speed,
                     lift_off_load: LIFT_OFF_LOAD,
+                    // grid_size set (or grid_accuracy: no default grid) is mode 0's fallback grid too
+                    fallback_grid: match values.integer(GRID_SIZE) {
+                        AUTOMATIC_GRID_SIZE => FallbackGrid::PerContact,
+                        _ => FallbackGrid::Model,
+                    },
                 };
-                let exact = Evaluator::new(model.clone(), ExactOnly, None, policy)
+                // modes 0 and 1 difference on mode 0's fallback grid (auto without a table solves
+                // every point), mode 2 on the model's
+                let exact_mode = match library_mode {
+                    ExactOnly => ExactOnly,
+                    _ => Auto,
+                };
+                let exact = Evaluator::new(model.clone(), exact_mode, None, policy)
                     .map_err(|e| e.to_string())?;
                 let evaluator = Evaluator::with_tables(model, library_mode, tables, policy)
                     .map_err(|e| e.to_string())?;
@@ -388,10 +401,16 @@ impl WheelRailModel {
         for (param, i) in EXPOSED_PARAMETERS {
             p.set(param, values.real(i));
         }
-        // grid_size outside usize (negative) is mapped to 0, which the validation rejects by name
-        let n = usize::try_from(values.integer(GRID_SIZE)).unwrap_or(0);
-        p.grid.nx = n;
-        p.grid.ny = n;
+        // grid_size 0 (automatic) keeps the library's default grid; a negative one is mapped to 1, which
+        // the validation rejects by name
+        match values.integer(GRID_SIZE) {
+            AUTOMATIC_GRID_SIZE => {}
+            n => {
+                let n = usize::try_from(n).unwrap_or(1);
+                p.grid.nx = n;
+                p.grid.ny = n;
+            }
+        }
         p.tangential = match values.integer(TANGENTIAL) {
             0 => Tangential::Fastsim,
             1 => Tangential::Exact,
@@ -407,12 +426,13 @@ impl WheelRailModel {
 
     /// Evaluates the outputs of the current values: (results in the FMU's frame, evaluation_mode, status).
     /// `tolerance` tightens the exact solver's tolerance and selects the exact solver whatever the mode
-    /// (for finite differences). With `warm_start` on, an exact solve starts from the instance's warm
-    /// start; `start` says what becomes of the solve's final state.
+    /// (for finite differences), on `cells` if given. With `warm_start` on, an exact solve starts from the
+    /// instance's warm start; `start` says what becomes of the solve's final state.
     fn evaluate(
         &mut self,
         values: &Values,
         tolerance: Option<f64>,
+        cells: Option<[usize; 2]>,
         start: Start,
         log: &Logger,
     ) -> Result<(Evaluation, i32, Status), String> {
@@ -434,7 +454,8 @@ impl WheelRailModel {
             Some(_) => &setup.exact,
             None => &setup.evaluator,
         };
-        let result = evaluator.evaluate_at(&input(values), &geometry(values), tolerance, warm);
+        let result =
+            evaluator.evaluate_on(&input(values), &geometry(values), cells, tolerance, warm);
         let exact = matches!(
             &result,
             Ok(Evaluation {
@@ -473,7 +494,7 @@ impl WheelRailModel {
         start: Start,
         log: &Logger,
     ) -> Result<Status, String> {
-        let (e, mode, mut status) = self.evaluate(values, None, start, log)?;
+        let (e, mode, mut status) = self.evaluate(values, None, None, start, log)?;
         let output = e.outputs().map_err(|err| fmu_error(err, values))?;
         if !output.converged {
             log.warning(&match e.by.report() {
@@ -666,6 +687,13 @@ impl Model for WheelRailModel {
         if let Some(d) = self.table_derivative(values, unknowns, knowns, seed, log)? {
             return Ok(d);
         }
+        // every evaluation of the difference on the grid of the unperturbed point: a grid chosen per
+        // contact must not switch between them (at w = 0, a wetness seed would switch to the wet grid)
+        let (setup, _) = Setup::current(&mut self.setup, self.resources.as_deref(), values, log)?;
+        let cells = setup
+            .exact
+            .exact_cells(&input(values), &geometry(values))
+            .map_err(|e| fmu_error(e, values))?;
         forward_difference(values, unknowns, knowns, seed, DERIVATIVE_STEP, |v| {
             // the unperturbed point is the same for every seed direction at one communication point
             if let Some((at, out)) = &self.derivative_base
@@ -673,7 +701,13 @@ impl Model for WheelRailModel {
             {
                 return Ok(out.clone());
             }
-            let (e, mode, _) = self.evaluate(v, Some(DERIVATIVE_TOLERANCE), Start::Probe, log)?;
+            let (e, mode, _) = self.evaluate(
+                v,
+                Some(DERIVATIVE_TOLERANCE),
+                Some(cells),
+                Start::Probe,
+                log,
+            )?;
             let mut out = v.clone();
             let output = e.outputs().map_err(|err| fmu_error(err, v))?;
             write_outputs(&mut out, &e, &output, mode)?;
@@ -730,6 +764,105 @@ mod tests {
         let moved = forces.chunks(2).filter(|f| f[0] != f[1]).count();
         assert!(moved >= 2, "{moved} of {}", EXPOSED_PARAMETERS.len());
         assert!(forces.chunks(2).all(|f| f[1] == forces[1]));
+    }
+
+    /// A long contact (gap curvatures of a flange root: a/b ≈ 2.6) at 0.4 % creepage, dry, in mode 0
+    /// without a table (every point by the exact solver), cold solves.
+    fn long_contact(grid_size: i32) -> Values {
+        let mut v = Values::start(&VARIABLES);
+        v.set(GRID_SIZE, Value::Integer(grid_size));
+        v.set(CURVATURE_LONGITUDINAL, Value::Real(0.92));
+        v.set(CURVATURE_LATERAL, Value::Real(3.5));
+        v.set(CREEPAGE_LONGITUDINAL, Value::Real(0.004));
+        v.set(WARM_START, Value::Boolean(false));
+        v
+    }
+
+    /// The library's exact solve of `v`'s point and geometry on `cells`.
+    fn solved_on(v: &Values, cells: [usize; 2]) -> wheelrail::solver::GlobalResults {
+        let mut p = Params::default();
+        p.geometry = geometry(v);
+        [p.grid.nx, p.grid.ny] = cells;
+        wheelrail::solve(&p, &input(v)).unwrap().global
+    }
+
+    /// `grid_size` 0 (automatic, the start value): mode 0 solves the points no table serves on the grid
+    /// per contact, dry and wet; mode 2 on 30 × 30; a `grid_size` set is mode 0's grid too.
+    #[test]
+    fn grid_size_automatic_solves_mode_0s_fallback_on_the_grid_per_contact() {
+        let (log, _) = capturing(false);
+        assert_eq!(
+            Values::start(&VARIABLES).integer(GRID_SIZE),
+            AUTOMATIC_GRID_SIZE
+        );
+        for (wetness, cells) in [(0.0, [24, 6]), (1.0, [24, 12])] {
+            let mut v = long_contact(AUTOMATIC_GRID_SIZE);
+            v.set(WETNESS, Value::Real(wetness));
+            let mut m = WheelRailModel::new(None);
+            m.calculate(&mut v, &log).unwrap();
+            assert_eq!(v.integer(EVALUATION_MODE), 2);
+            let want = solved_on(&v, cells);
+            assert_eq!(
+                [v.real(FORCE_LONGITUDINAL), v.real(FORCE_LATERAL)],
+                [want.force_x, want.force_y],
+                "w = {wetness}"
+            );
+            assert_eq!(Some(v.real(MAX_TEMPERATURE)), want.max_temperature);
+        }
+        let force_in = |mode: i32, grid_size: i32| {
+            let mut v = long_contact(grid_size);
+            v.set(MODE, Value::Integer(mode));
+            WheelRailModel::new(None).calculate(&mut v, &log).unwrap();
+            v.real(FORCE_LONGITUDINAL)
+        };
+        let reference = solved_on(&long_contact(0), [30, 30]).force_x;
+        assert_eq!(force_in(2, AUTOMATIC_GRID_SIZE), reference);
+        assert_eq!(force_in(0, DEFAULT_GRID_SIZE), reference);
+        assert_eq!(force_in(0, 12), force_in(2, 12));
+        assert_ne!(force_in(0, AUTOMATIC_GRID_SIZE), reference);
+        // a negative grid_size is refused by name
+        let mut v = long_contact(-3);
+        let e = WheelRailModel::new(None)
+            .calculate(&mut v, &log)
+            .unwrap_err();
+        assert!(e.contains("grid_size: -3"), "{e}");
+    }
+
+    /// The evaluations behind a directional derivative stay on the grid of the unperturbed point: at
+    /// w = 0 a wetness seed would otherwise difference the dry grid against the wet one (24 × 6 → 24 × 12
+    /// on this long contact), a jump of the grids' difference over the step.
+    #[test]
+    fn a_derivative_keeps_the_grid_of_its_point() {
+        let (log, _) = capturing(false);
+        let v = long_contact(AUTOMATIC_GRID_SIZE);
+        let mut m = WheelRailModel::new(None);
+        let d = m
+            .directional_derivative(&v, &[FORCE_LONGITUDINAL], &[WETNESS], &[1.0], &log)
+            .unwrap()[0];
+        // the difference on the dry point's grid, at the derivative tolerance
+        let step = DERIVATIVE_STEP * VARIABLES[WETNESS].nominal();
+        let on_dry_grid = |w: f64| {
+            let mut v = v.clone();
+            v.set(WETNESS, Value::Real(w));
+            let mut p = Params::default();
+            p.geometry = geometry(&v);
+            [p.grid.nx, p.grid.ny] = [24, 6];
+            p.solver.tolerance = DERIVATIVE_TOLERANCE;
+            wheelrail::solve(&p, &input(&v)).unwrap().global.force_x
+        };
+        let want = (on_dry_grid(step) - on_dry_grid(0.0)) / step;
+        assert!(
+            (d - want).abs() <= 1e-9 * want.abs().max(1.0),
+            "{d} vs {want}"
+        );
+        // across the grids the same difference is another number (the grids' difference over the step)
+        let mut wet = v.clone();
+        wet.set(WETNESS, Value::Real(step));
+        let across = (solved_on(&wet, [24, 12]).force_x - on_dry_grid(0.0)) / step;
+        assert!(
+            (across - want).abs() > 0.5 * want.abs(),
+            "{across} vs {want}"
+        );
     }
 
     #[test]
@@ -1149,7 +1282,7 @@ mod tests {
                     w.set(*k, Value::Real(w.real(*k) + sign * h * s));
                 }
                 let (e, mode, _) = m
-                    .evaluate(&w, Some(DERIVATIVE_TOLERANCE), Start::Probe, &log)
+                    .evaluate(&w, Some(DERIVATIVE_TOLERANCE), None, Start::Probe, &log)
                     .unwrap();
                 write_outputs(&mut w, &e, &e.outputs().unwrap(), mode).unwrap();
                 unknowns.map(|i| w.real(i))

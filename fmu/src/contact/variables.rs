@@ -116,9 +116,12 @@ pub const TANGENTIAL: usize = 33;
 
 /// Default of `minimum_speed`: below this |V| the contact is solved at this speed [m/s].
 pub const DEFAULT_MINIMUM_SPEED: f64 = wheelrail::model::DEFAULT_MINIMUM_SPEED;
-/// Default of `grid_size`: the library's default `grid.nx` (docs/model.md §2 project default, 30 × 30
-/// cells).
+/// The library's default `grid.nx` (docs/model.md §2 project default, 30 × 30 cells): the grid of
+/// `grid_size` = [`AUTOMATIC_GRID_SIZE`] in mode 2 and the table's.
 pub const DEFAULT_GRID_SIZE: i32 = Param::GridNx.default_value() as i32;
+/// Start value of `grid_size`: automatic, the library's default grid ([`DEFAULT_GRID_SIZE`] per axis), on
+/// which mode 0 solves the points no table serves on a grid per contact (docs/model.md §6.4).
+pub const AUTOMATIC_GRID_SIZE: i32 = 0;
 
 /// A closed bound of the specification as an FMI `min`/`max` (a compile-time error for other bounds).
 const fn closed(b: Bound) -> f64 {
@@ -280,11 +283,13 @@ const fn integer_parameter(
     }
 }
 
-/// The range of `grid_size`: that of the library's `grid.nx` (and `grid.ny`), which it sets.
-const GRID_RANGE: (i32, i32) = {
+/// The range of the cells per axis `grid_size` sets: that of the library's `grid.nx` (and `grid.ny`).
+pub const GRID_CELLS_RANGE: (i32, i32) = {
     let r = Param::GridNx.spec().range;
     (closed(r.lo) as i32, closed(r.hi) as i32)
 };
+/// The range of `grid_size`: [`AUTOMATIC_GRID_SIZE`] up to the largest of [`GRID_CELLS_RANGE`].
+const GRID_RANGE: (i32, i32) = (AUTOMATIC_GRID_SIZE, GRID_CELLS_RANGE.1);
 
 /// The inputs, in the order of the library's operating point.
 const INPUT_VARIABLES: [Variable; 6] = [
@@ -387,9 +392,9 @@ const OWN_VARIABLES: [Variable; 20] = [
     integer_parameter(
         "grid_size",
         GRID_SIZE,
-        DEFAULT_GRID_SIZE,
+        AUTOMATIC_GRID_SIZE,
         GRID_RANGE,
-        "Cells per axis of the contact grid of the exact solver",
+        "Cells per axis of the contact grid of the exact solver; 0 (automatic): 30 x 30, and in mode 0 the points the table does not serve on a grid per contact (24 cells along x, 6 to 12 across: forces within 1 % of F_N and T_max within 10 K of 30 x 30)",
     ),
     integer_parameter(
         "mode",
