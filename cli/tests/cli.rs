@@ -424,6 +424,44 @@ fn point_mode_auto_uses_the_table_where_usable_and_else_the_exact_solver() {
     assert_ne!(auto["force_x"], table["force_x"]);
 }
 
+/// `point --mode auto` with the default grid solves a contact no table serves on the grid per contact (a
+/// long one: 24 × 6 dry, 24 × 12 wet); `--grid` or `--grid-accuracy` is its grid instead. `grid_cells` says
+/// which.
+#[test]
+fn point_mode_auto_falls_back_on_the_grid_per_contact_unless_a_grid_is_given() {
+    let table = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fmu/resources/table");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "point",
+            "--json",
+            "--curvatures",
+            "0.92,3.5",
+            "--creepage-x",
+            "0.004",
+        ];
+        args.extend_from_slice(extra);
+        let o = wheelrail(&args);
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        assert!(o.status.success(), "{extra:?}: {err}");
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(v["evaluation"], "exact");
+        (v, err)
+    };
+    let auto = ["--mode", "auto", "--table", table.to_str().unwrap()];
+    let (dry, err) = run(&auto);
+    assert_eq!(dry["grid_cells"], serde_json::json!([24, 6]));
+    assert!(err.contains("another contact geometry"), "{err}");
+    let (wet, _) = run(&[&auto[..], &["--wetness", "1"]].concat());
+    assert_eq!(wet["grid_cells"], serde_json::json!([24, 12]));
+    let (set, _) = run(&[&auto[..], &["--grid", "30,30"]].concat());
+    let (exact, _) = run(&[]);
+    assert_eq!(set["grid_cells"], serde_json::json!([30, 30]));
+    assert_eq!(set["force_x"], exact["force_x"]);
+    assert_ne!(dry["force_x"], exact["force_x"]);
+    let (accuracy, _) = run(&[&auto[..], &["--grid-accuracy", "0.01"]].concat());
+    assert_eq!(accuracy["grid_cells"], serde_json::json!([10, 10]));
+}
+
 #[test]
 fn point_mode_exact_is_the_default_without_a_table_and_table_modes_need_one() {
     let (default, _) = point_with(&[]);

@@ -778,11 +778,18 @@ mod tests {
         v
     }
 
-    /// The library's exact solve of `v`'s point and geometry on `cells`.
-    fn solved_on(v: &Values, cells: [usize; 2]) -> wheelrail::solver::GlobalResults {
-        let mut p = Params::default();
-        p.geometry = geometry(v);
+    /// The library's exact solve of `v`'s point and geometry on `cells` to the solver `tolerance`.
+    fn solved_on(
+        v: &Values,
+        cells: [usize; 2],
+        tolerance: f64,
+    ) -> wheelrail::solver::GlobalResults {
+        let mut p = Params {
+            geometry: geometry(v),
+            ..Params::default()
+        };
         [p.grid.nx, p.grid.ny] = cells;
+        p.solver.tolerance = tolerance;
         wheelrail::solve(&p, &input(v)).unwrap().global
     }
 
@@ -801,7 +808,7 @@ mod tests {
             let mut m = WheelRailModel::new(None);
             m.calculate(&mut v, &log).unwrap();
             assert_eq!(v.integer(EVALUATION_MODE), 2);
-            let want = solved_on(&v, cells);
+            let want = solved_on(&v, cells, Params::default().solver.tolerance);
             assert_eq!(
                 [v.real(FORCE_LONGITUDINAL), v.real(FORCE_LATERAL)],
                 [want.force_x, want.force_y],
@@ -815,7 +822,8 @@ mod tests {
             WheelRailModel::new(None).calculate(&mut v, &log).unwrap();
             v.real(FORCE_LONGITUDINAL)
         };
-        let reference = solved_on(&long_contact(0), [30, 30]).force_x;
+        let tolerance = Params::default().solver.tolerance;
+        let reference = solved_on(&long_contact(0), [30, 30], tolerance).force_x;
         assert_eq!(force_in(2, AUTOMATIC_GRID_SIZE), reference);
         assert_eq!(force_in(0, DEFAULT_GRID_SIZE), reference);
         assert_eq!(force_in(0, 12), force_in(2, 12));
@@ -841,24 +849,19 @@ mod tests {
             .unwrap()[0];
         // the difference on the dry point's grid, at the derivative tolerance
         let step = DERIVATIVE_STEP * VARIABLES[WETNESS].nominal();
-        let on_dry_grid = |w: f64| {
+        let on = |w: f64, cells| {
             let mut v = v.clone();
             v.set(WETNESS, Value::Real(w));
-            let mut p = Params::default();
-            p.geometry = geometry(&v);
-            [p.grid.nx, p.grid.ny] = [24, 6];
-            p.solver.tolerance = DERIVATIVE_TOLERANCE;
-            wheelrail::solve(&p, &input(&v)).unwrap().global.force_x
+            solved_on(&v, cells, DERIVATIVE_TOLERANCE).force_x
         };
+        let on_dry_grid = |w| on(w, [24, 6]);
         let want = (on_dry_grid(step) - on_dry_grid(0.0)) / step;
         assert!(
             (d - want).abs() <= 1e-9 * want.abs().max(1.0),
             "{d} vs {want}"
         );
         // across the grids the same difference is another number (the grids' difference over the step)
-        let mut wet = v.clone();
-        wet.set(WETNESS, Value::Real(step));
-        let across = (solved_on(&wet, [24, 12]).force_x - on_dry_grid(0.0)) / step;
+        let across = (on(step, [24, 12]) - on_dry_grid(0.0)) / step;
         assert!(
             (across - want).abs() > 0.5 * want.abs(),
             "{across} vs {want}"

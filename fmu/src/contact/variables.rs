@@ -819,7 +819,10 @@ mod tests {
         assert_eq!(v.real(FLOW_RESISTANCE), p.fluid.flow_resistance);
         assert_eq!(v.real(PSI_B), p.fluid.psi_b);
         assert_eq!(v.real(H_F_MAX), p.fluid.h_f_max);
-        assert_eq!(v.integer(GRID_SIZE) as usize, p.grid.nx);
+        // automatic: the library's default grid (the one the bundled table was built on)
+        assert_eq!(v.integer(GRID_SIZE), AUTOMATIC_GRID_SIZE);
+        assert_eq!(DEFAULT_GRID_SIZE as usize, p.grid.nx);
+        assert_eq!(DEFAULT_GRID_SIZE as usize, p.grid.ny);
         assert_eq!(v.integer(TANGENTIAL), 0);
         assert_eq!(p.tangential, wheelrail::params::Tangential::Fastsim);
         assert_eq!(v.list()[TABLE_FILE], Value::String(String::new()));
