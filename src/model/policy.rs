@@ -603,8 +603,10 @@ impl Evaluator {
                 (Evaluated::Table(output?), patch, Some(index))
             }
             None => {
-                let cells =
-                    cells.map_or_else(|| self.fallback_cells(&solved.point, geometry), Ok)?;
+                let cells = match cells {
+                    Some(c) => c,
+                    None => self.solve_cells(&solved.point, geometry)?,
+                };
                 let e = self.exact(&solved.point, geometry, cells, tolerance, warm)?;
                 let patch = Patch {
                     semi_axis_a: e.global.semi_axis_a,
@@ -695,13 +697,13 @@ impl Evaluator {
         }
         let solved = Solved::of(input, self.policy.minimum_speed);
         solved.check(input)?;
-        self.fallback_cells(&solved.point, geometry)
+        self.solve_cells(&solved.point, geometry)
     }
 
     /// The cells of an exact solve of `point` (in the solved frame): the per-contact fallback grid
     /// ([`crate::params::fallback_cells`] of the Hertz ellipse at the point's normal force and of its film)
     /// in mode auto with [`FallbackGrid::PerContact`] and the default grid, else the model's grid.
-    fn fallback_cells(&self, point: &OperatingPoint, geometry: &Geometry) -> Result<[usize; 2]> {
+    fn solve_cells(&self, point: &OperatingPoint, geometry: &Geometry) -> Result<[usize; 2]> {
         let params = self.model.params();
         let per_contact = self.mode == Mode::Auto
             && self.policy.fallback_grid == FallbackGrid::PerContact
