@@ -68,7 +68,7 @@ use crate::fluid::CellHeights;
 use crate::fluid::band::Band;
 use crate::fluid::cell_geometry::separation_for_void;
 use crate::materials::MaterialState;
-use crate::microcontact::Microcontact;
+use crate::microcontact::{Integrator, Microcontact};
 
 /// Lubrication regime of a cell (docs/model.md §8).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -414,6 +414,8 @@ struct System<'a> {
     z_s: f64,
     /// The cell heights of the surface and base height (P8–P11).
     heights: CellHeights,
+    /// The microcontact of each cell at its material state.
+    contact: Vec<Integrator<'a>>,
     hy: f64,
     vm: f64,
     /// Inlet film brought by the rail per strip, v_r·h_y·h_f0 [m³/s].
@@ -496,6 +498,11 @@ impl<'a> System<'a> {
             pr,
             z_s,
             heights,
+            contact: pr
+                .materials
+                .iter()
+                .map(|m| pr.micro.integrator(m))
+                .collect(),
             hy: grid.hy,
             vm: pr.mean_speed,
             supply: pr.rail_speed * grid.hy * pr.inlet_film,
@@ -515,7 +522,7 @@ impl<'a> System<'a> {
     /// Full state of cell k at separation d (P17 for p_f, P8–P11 for l_v, docs/model.md §4 for the asperities).
     fn full(&self, k: usize, d: f64) -> Full {
         let pr = self.pr;
-        let m = pr.micro.evaluate(d, &pr.materials[k]);
+        let m = self.contact[k].state(d);
         let (lv, dlv) = self.heights.void(d);
         let open = (1.0 - m.area_fraction).max(1e-12);
         let p = ((pr.nominal_pressure[k] - m.load) / open).max(0.0);
