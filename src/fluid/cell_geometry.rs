@@ -82,29 +82,67 @@ fn psi_antiderivative(z: f64, z_s: f64) -> f64 {
 
 impl CellGeometry {
     /// Cell heights at separation `d` for the surface with height deviation `z_s` and base height `d_b`
-    /// (closed form of P11: l_m = [z·ψ(z) − z_s²·φ(z)] from d_b to d). The void height is computed as
-    /// ∫_{d_b}^{d} (1 − ψ) dz directly, which keeps its full relative accuracy when it is tiny.
+    /// ([`CellHeights::at`]).
+    pub fn at(d: f64, z_s: f64, d_b: f64) -> Self {
+        CellHeights::new(z_s, d_b).at(d)
+    }
+}
+
+/// The heights of the cells of one surface (height deviation z_s) and base height d_b (P7–P11), with the
+/// terms of the closed forms that depend on d_b alone evaluated once: the film solve and the assembly of
+/// a solution evaluate them for every cell at the same z_s and d_b.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellHeights {
+    /// Height deviation z_s [m].
+    z_s: f64,
+    /// Base height d_b [m].
+    d_b: f64,
+    /// ∫ψ dz at d_b, [z·ψ(z) − z_s²·φ(z)] at z = d_b [m²/m].
+    metal_at_base: f64,
+    /// The same at z = −d_b, the lower limit of the void integral [m].
+    void_at_base: f64,
+}
+
+impl CellHeights {
+    /// The heights of a surface with height deviation `z_s` [m] and base height `d_b` [m].
+    pub fn new(z_s: f64, d_b: f64) -> Self {
+        Self {
+            z_s,
+            d_b,
+            metal_at_base: psi_antiderivative(d_b, z_s),
+            void_at_base: psi_antiderivative(-d_b, z_s),
+        }
+    }
+
+    /// Cell heights at separation `d` (closed form of P11: l_m = [z·ψ(z) − z_s²·φ(z)] from d_b to d). The
+    /// void height is computed as ∫_{d_b}^{d} (1 − ψ) dz directly, which keeps its full relative accuracy
+    /// when it is tiny ([`Self::void`]).
+    pub fn at(&self, d: f64) -> CellGeometry {
+        let (void_height, void_slope) = self.void(d);
+        CellGeometry {
+            cell_height: d - self.d_b,
+            metal_height: psi_antiderivative(d, self.z_s) - self.metal_at_base,
+            void_height,
+            void_slope,
+        }
+    }
+
+    /// The void height l_v open to the fluid at separation `d` [m] and its slope d l_v / d d [-] (the
+    /// fields `void_height`, `void_slope` of [`Self::at`]): l_v = ∫_{d_b}^{d} (1 − ψ) dz, with
+    /// 1 − ψ(z) = ψ(−z), so ∫_{−d}^{−d_b} ψ(u) du.
     ///
     /// Below the base height (d < d_b, l_c < 0: asperities pressed so far that their voids lie below d_b,
     /// docs/model.md §8.2) the voids are closed: l_v = 0, and so is its slope, the derivative of the
     /// clamped l_v (the film's cell solve relies on it to step out of the closed range, docs/model.md
     /// §8.7). At d = d_b the slope is the one from above, 1 − ψ(d_b), where a closed cell opens.
-    pub fn at(d: f64, z_s: f64, d_b: f64) -> Self {
-        let cell_height = d - d_b;
-        let metal_height = psi_antiderivative(d, z_s) - psi_antiderivative(d_b, z_s);
-        // 1 − ψ(z) = ψ(−z): ∫_{d_b}^{d} ψ(−z) dz = ∫_{−d}^{−d_b} ψ(u) du
-        let void_height = (psi_antiderivative(-d_b, z_s) - psi_antiderivative(-d, z_s)).max(0.0);
-        let void_slope = if cell_height >= 0.0 {
-            0.5 * libm::erfc(-d / (SQRT_2 * z_s))
+    pub fn void(&self, d: f64) -> (f64, f64) {
+        let void_height = (self.void_at_base - psi_antiderivative(-d, self.z_s)).max(0.0);
+        let void_slope = if d - self.d_b >= 0.0 {
+            0.5 * libm::erfc(-d / (SQRT_2 * self.z_s))
         } else {
             0.0
         };
-        Self {
-            cell_height,
-            metal_height,
-            void_height,
-            void_slope,
-        }
+        (void_height, void_slope)
     }
 }
 

@@ -64,11 +64,11 @@ use std::cell::OnceCell;
 
 use crate::contact::ContactGrid;
 use crate::error::{Error, Result, Stage};
-use crate::fluid::CellGeometry;
+use crate::fluid::CellHeights;
 use crate::fluid::band::Band;
 use crate::fluid::cell_geometry::separation_for_void;
 use crate::materials::MaterialState;
-use crate::microcontact::Microcontact;
+use crate::microcontact::{Integrator, Microcontact};
 
 /// Lubrication regime of a cell (docs/model.md §8).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -412,6 +412,10 @@ pub fn takes_in_all(max_dry_area_fraction: f64) -> bool {
 struct System<'a> {
     pr: &'a FilmProblem<'a>,
     z_s: f64,
+    /// The cell heights of the surface and base height (P8–P11).
+    heights: CellHeights,
+    /// The microcontact of each cell at its material state.
+    contact: Vec<Integrator<'a>>,
     hy: f64,
     vm: f64,
     /// Inlet film brought by the rail per strip, v_r·h_y·h_f0 [m³/s].
@@ -452,12 +456,13 @@ impl<'a> System<'a> {
             });
         }
         let z_s = pr.micro.surface().z_s;
+        let heights = CellHeights::new(z_s, pr.base_height);
         let cx = grid.hy / (grid.hx * pr.flow_resistance);
         let cy = grid.hx / (grid.hy * pr.flow_resistance);
         let mut dry_void: Vec<f64> = pr
             .dry_separation
             .iter()
-            .map(|d| CellGeometry::at(*d, z_s, pr.base_height).void_height)
+            .map(|d| heights.void(*d).0)
             .collect();
         let kind: Vec<Kind> = (0..n)
             .map(
@@ -492,6 +497,12 @@ impl<'a> System<'a> {
         Ok(Self {
             pr,
             z_s,
+            heights,
+            contact: pr
+                .materials
+                .iter()
+                .map(|m| pr.micro.integrator(m))
+                .collect(),
             hy: grid.hy,
             vm: pr.mean_speed,
             supply: pr.rail_speed * grid.hy * pr.inlet_film,
@@ -511,16 +522,16 @@ impl<'a> System<'a> {
     /// Full state of cell k at separation d (P17 for p_f, P8–P11 for l_v, docs/model.md §4 for the asperities).
     fn full(&self, k: usize, d: f64) -> Full {
         let pr = self.pr;
-        let m = pr.micro.evaluate(d, &pr.materials[k]);
-        let geo = CellGeometry::at(d, self.z_s, pr.base_height);
+        let m = self.contact[k].state(d);
+        let (lv, dlv) = self.heights.void(d);
         let open = (1.0 - m.area_fraction).max(1e-12);
         let p = ((pr.nominal_pressure[k] - m.load) / open).max(0.0);
         Full {
             p,
             // dp/dd = (−dL/dd + p·dA/dd)/(1 − A)
             dp: (-m.d_load_d_separation + p * m.d_area_d_separation) / open,
-            lv: geo.void_height,
-            dlv: geo.void_slope,
+            lv,
+            dlv,
             area: m.area_fraction,
             load: m.load,
         }
@@ -639,7 +650,7 @@ impl<'a> System<'a> {
     /// closed cell, which holds nothing).
     fn unknown(&self, k: usize, d: f64, p: f64, lf: f64) -> f64 {
         if p > 0.0 {
-            let lv = CellGeometry::at(d, self.z_s, self.pr.base_height).void_height;
+            let lv = self.heights.void(d).0;
             self.full_unknown(k, d, lv)
         } else if self.closed(k) {
             0.0

@@ -5,7 +5,7 @@ mod band;
 pub(crate) mod cell_geometry;
 pub(crate) mod film;
 
-pub use cell_geometry::{CellGeometry, base_height};
+pub use cell_geometry::{CellGeometry, CellHeights, base_height};
 pub use film::{
     FilmProblem, FilmSolution, FilmStart, Regime, intake_share, solve_film, solve_film_newton,
     takes_in_all,

@@ -26,7 +26,7 @@
 //! Δln c ≈ 1/|h|; for h ≥ −4 it is about 1e−11 (values) and 1e−9 (derivatives). Above h ≈ 37 the values
 //! (below 1e−300) underflow to subnormal numbers.
 
-use super::gw::{H_ZERO, Integrals, Law};
+use super::gw::{H_ZERO, Law};
 use crate::quadrature::gauss_legendre::GaussLegendre;
 use std::cell::Cell;
 use std::sync::{Mutex, OnceLock};
@@ -184,8 +184,25 @@ pub struct Stencil {
 
 impl Stencil {
     /// 𝒜, 𝒫 and their h-derivatives at h, or None outside H_MIN ≤ h < H_ZERO (or h not finite).
+    #[cfg(test)]
+    pub fn integrals(&self, h: f64) -> Option<super::gw::Integrals> {
+        self.interpolant(h).map(|i| {
+            let (load, dload) = i.load();
+            let (area, darea) = i.area();
+            super::gw::Integrals {
+                area,
+                load,
+                dload,
+                darea,
+            }
+        })
+    }
+
+    /// The interpolant of the integrals at h (None outside H_MIN ≤ h < H_ZERO, or h not finite), to
+    /// evaluate 𝒫 and 𝒜 separately: [`Interpolant::load`], [`Interpolant::area`] are the fields of
+    /// `integrals`, bit for bit.
     #[inline]
-    pub fn integrals(&self, h: f64) -> Option<Integrals> {
+    pub fn interpolant(&self, h: f64) -> Option<Interpolant> {
         if !(H_MIN..H_ZERO).contains(&h) {
             return None;
         }
@@ -203,19 +220,38 @@ impl Stencil {
                 y[6 + q] += w * n1[q];
             }
         }
-        let basis = QuinticHermite::at(t);
-        let (load, dload) = basis.exp_of(&y[0..3], &y[6..9]);
-        let (area, darea) = basis.exp_of(&y[3..6], &y[9..12]);
-        Some(Integrals {
-            area,
-            load,
-            dload,
-            darea,
+        Some(Interpolant {
+            y,
+            basis: QuinticHermite::at(t),
         })
     }
 }
 
+/// The integrals' logarithms and their h-derivatives interpolated in ln c at both ends of one grid
+/// interval in h, with the Hermite basis at h in it.
+#[derive(Debug, Clone, Copy)]
+pub struct Interpolant {
+    /// ln 𝒫, (ln 𝒫)', (ln 𝒫)'', ln 𝒜, (ln 𝒜)', (ln 𝒜)'' at the interval's lower end, then at its upper end.
+    y: [f64; 12],
+    basis: QuinticHermite,
+}
+
+impl Interpolant {
+    /// 𝒫 and d𝒫/dh.
+    #[inline]
+    pub fn load(&self) -> (f64, f64) {
+        self.basis.exp_of(&self.y[0..3], &self.y[6..9])
+    }
+
+    /// 𝒜 and d𝒜/dh.
+    #[inline]
+    pub fn area(&self) -> (f64, f64) {
+        self.basis.exp_of(&self.y[3..6], &self.y[9..12])
+    }
+}
+
 /// Quintic Hermite basis on one grid interval at t ∈ [0, 1] (value and d/dt).
+#[derive(Debug, Clone, Copy)]
 struct QuinticHermite {
     /// Basis of (p1 − p0, m0, a0, a1, m1): p = value, m = H_STEP·d/dh, a = H_STEP²·d²/dh².
     value: [f64; 5],
@@ -357,7 +393,7 @@ fn build_block(law: &Law, b: usize) -> Block {
 
 #[cfg(test)]
 mod tests {
-    use super::super::gw::{f1, phi0, upper_tail};
+    use super::super::gw::{Integrals, f1, phi0, upper_tail};
     use super::*;
 
     /// K of ν = 0.28 (the project's steel).

@@ -20,7 +20,7 @@ use crate::error::{Error, Result, Stage, check_finite, check_positive, check_ran
 use crate::materials::MaterialState;
 use crate::params::{Param, Roughness};
 use gw::{Integrals, Law, PLASTIC_RATIO, Scheme};
-use gw_table::{GwTable, Stencil};
+use gw_table::{GwTable, Interpolant, Stencil};
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
@@ -173,8 +173,10 @@ pub struct Microcontact {
 
 /// The microcontact of one surface and material state (one c = ω_c/z_s and K): the dimensionless
 /// integrals from the table's stencil at c when the table covers c and h, else by the direct quadrature,
-/// and their scales.
-struct Integrator<'a> {
+/// and their scales. Made by [`Microcontact::integrator`] for many evaluations at one material state
+/// ([`Integrator::state`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Integrator<'a> {
     stencil: Option<Stencil>,
     c: f64,
     k: f64,
@@ -186,26 +188,88 @@ struct Integrator<'a> {
     load_scale: f64,
 }
 
-impl Integrator<'_> {
-    /// 𝒜, 𝒫 and their h-derivatives at h = d/z_s.
+/// The dimensionless integrals at one h, from the table or the direct quadrature, with 𝒜 (and its
+/// derivative) evaluated only when asked for: the root finding of [`Microcontact::separation_for_load`]
+/// needs the area of its last iterate only.
+enum Evaluation {
+    /// Interpolated in the table.
+    Table(Interpolant),
+    /// By the direct quadrature (all four at once).
+    Direct(Integrals),
+}
+
+impl Evaluation {
+    /// 𝒫 and d𝒫/dh.
     #[inline]
-    fn integrals(&self, h: f64) -> Integrals {
-        self.stencil
-            .and_then(|s| s.integrals(h))
-            .unwrap_or_else(|| self.scheme.integrals(h, &Law::new(self.c, self.k)))
+    fn load(&self) -> (f64, f64) {
+        match self {
+            Evaluation::Table(i) => i.load(),
+            Evaluation::Direct(q) => (q.load, q.dload),
+        }
     }
 
-    /// The microcontact state at separation d [m].
+    /// 𝒜 and d𝒜/dh.
     #[inline]
-    fn state(&self, d: f64) -> MicroState {
-        let q = self.integrals(d / self.z_s);
-        MicroState {
-            separation: d,
-            area_fraction: self.area_scale * q.area,
-            load: self.load_scale * q.load,
-            d_load_d_separation: self.load_scale * q.dload / self.z_s,
-            d_area_d_separation: self.area_scale * q.darea / self.z_s,
+    fn area(&self) -> (f64, f64) {
+        match self {
+            Evaluation::Table(i) => i.area(),
+            Evaluation::Direct(q) => (q.area, q.darea),
         }
+    }
+}
+
+/// The load part of a [`MicroState`] at a separation, with what completes it ([`Integrator::complete`]).
+struct LoadState {
+    /// Separation d [m].
+    separation: f64,
+    /// p_m·A_m/A_n [Pa].
+    load: f64,
+    /// d(p_m·A_m/A_n)/dd [Pa/m].
+    d_load_d_separation: f64,
+    evaluation: Evaluation,
+}
+
+impl Integrator<'_> {
+    /// 𝒜, 𝒫 and their h-derivatives at h = d/z_s, 𝒜 when asked for.
+    #[inline]
+    fn evaluation(&self, h: f64) -> Evaluation {
+        match self.stencil.and_then(|s| s.interpolant(h)) {
+            Some(i) => Evaluation::Table(i),
+            None => Evaluation::Direct(self.scheme.integrals(h, &Law::new(self.c, self.k))),
+        }
+    }
+
+    /// The load and its derivative at separation `d` [m] (those of [`Self::state`]).
+    #[inline]
+    fn load_state(&self, d: f64) -> LoadState {
+        let evaluation = self.evaluation(d / self.z_s);
+        let (load, dload) = evaluation.load();
+        LoadState {
+            separation: d,
+            load: self.load_scale * load,
+            d_load_d_separation: self.load_scale * dload / self.z_s,
+            evaluation,
+        }
+    }
+
+    /// The microcontact state of a load state: its area fraction and derivative added.
+    #[inline]
+    fn complete(&self, s: &LoadState) -> MicroState {
+        let (area, darea) = s.evaluation.area();
+        MicroState {
+            separation: s.separation,
+            area_fraction: self.area_scale * area,
+            load: s.load,
+            d_load_d_separation: s.d_load_d_separation,
+            d_area_d_separation: self.area_scale * darea / self.z_s,
+        }
+    }
+
+    /// The microcontact state at separation `d` [m]: [`Microcontact::evaluate`] at the integrator's
+    /// material state, bit for bit.
+    #[inline]
+    pub fn state(&self, d: f64) -> MicroState {
+        self.complete(&self.load_state(d))
     }
 }
 
@@ -237,8 +301,10 @@ impl Microcontact {
         self.surface.beta() * mat.e_star * self.sqrt_ratio
     }
 
-    /// The integrator of a material state: c = ω_c/z_s and K, and the table stencil at c if tabulated.
-    fn integrator(&self, mat: &MaterialState) -> Integrator<'_> {
+    /// The integrator of a material state: c = ω_c/z_s and K, and the table stencil at c if tabulated
+    /// (what [`Self::evaluate`] makes on every call; the film solve, which evaluates each cell at its
+    /// material state many times, makes it once per cell).
+    pub fn integrator(&self, mat: &MaterialState) -> Integrator<'_> {
         let omega_c =
             critical_interference(self.surface.r_a, mat.e_star, mat.hardness, mat.poisson);
         let (c, k) = (omega_c / self.surface.z_s, zmc_k(mat.poisson));
@@ -310,10 +376,9 @@ impl Microcontact {
             initial_guess(target / scale)
         };
         let mut iterations = 0;
-        let mut state;
         loop {
             iterations += 1;
-            state = integrator.state(h * z_s);
+            let state = integrator.load_state(h * z_s);
             let r = if state.load > 0.0 {
                 state.load.ln() - ln_target
             } else {
@@ -338,6 +403,7 @@ impl Microcontact {
             // evaluated again (one evaluation saved per solve, and a warm start that is already within
             // 1e-7 costs a single evaluation)
             if !converged && r.abs() <= TERMINAL_RESIDUAL && h + step > lo && h + step < hi {
+                let mut state = integrator.complete(&state);
                 let dd = step * z_s;
                 state.separation += dd;
                 state.load += state.d_load_d_separation * dd;
@@ -352,6 +418,7 @@ impl Microcontact {
                 });
             }
             if converged || iterations >= MAX_ITERATIONS {
+                let state = integrator.complete(&state);
                 let residual = (state.load - target).abs() / target;
                 return Ok(SeparationSolve {
                     state,
@@ -364,7 +431,7 @@ impl Microcontact {
             if !(h + step > lo && h + step < hi) {
                 if !lo_checked {
                     // the root lies below the current iterate: make sure the range holds it at all
-                    let bottom = integrator.state(lo * z_s);
+                    let bottom = integrator.load_state(lo * z_s);
                     iterations += 1;
                     if bottom.load < target {
                         return Err(Error::Numerical {
@@ -881,6 +948,36 @@ mod tests {
                 assert_eq!(st.load, l * q.load, "c = {c}, h = {h}");
                 assert_eq!(st.d_load_d_separation, l * q.dload / s.z_s);
                 assert_eq!(st.d_area_d_separation, a * q.darea / s.z_s);
+            }
+        }
+    }
+
+    #[test]
+    fn an_integrator_evaluates_as_evaluate_and_the_solve_returns_its_state() {
+        // in and outside the table (c and h), bit for bit; a solve started at the root ends on its first
+        // evaluation and returns the state evaluated there, area included
+        let mc = Microcontact::new(&roughness(0.5)).unwrap();
+        let s = *mc.surface();
+        let e_star = 113.9e9;
+        let (lo, hi) = gw_table::C_RANGE;
+        for c in [0.5 * lo, 0.01, 0.3, 2.0, 2.0 * hi] {
+            let hard = (c * s.z_s / s.r_a).sqrt() * 2.0 * e_star / (PI * zmc_k(0.28));
+            let m = material(e_star, hard, 0.28);
+            let integrator = mc.integrator(&m);
+            for i in -48..=60 {
+                let h = i as f64 * 0.25 + 0.0123;
+                let d = h * s.z_s;
+                let st = integrator.state(d);
+                assert_eq!(st, mc.evaluate(d, &m), "c = {c}, h = {h}");
+                if (-6.0..5.0).contains(&h) {
+                    let sol = mc.separation_for_load_from(st.load, &m, d).unwrap();
+                    assert!(sol.converged && !sol.below_floor && sol.iterations == 1);
+                    assert_eq!(
+                        sol.state,
+                        mc.evaluate(sol.state.separation, &m),
+                        "c = {c}, h = {h}"
+                    );
+                }
             }
         }
     }

@@ -4,7 +4,7 @@ use super::local::{Adhesion, Local};
 use super::report::SolverReport;
 use super::setup::Setup;
 use super::solution::{Fields, GlobalResults, Solution};
-use crate::fluid::{CellGeometry, FilmSolution, Regime};
+use crate::fluid::{CellGeometry, CellHeights, FilmSolution, Regime};
 use crate::friction;
 use crate::tangential::TractionField;
 
@@ -29,13 +29,8 @@ pub(super) struct Iterate {
 pub(super) fn assemble(setup: &Setup, it: Iterate) -> Solution {
     let grid = setup.grid.clone();
     let p_n = setup.p_n.clone();
-    let z_s = setup.micro.surface().z_s;
-    let geo: Vec<CellGeometry> = it
-        .local
-        .separation
-        .iter()
-        .map(|d| CellGeometry::at(*d, z_s, setup.base_height))
-        .collect();
+    let heights = CellHeights::new(setup.micro.surface().z_s, setup.base_height);
+    let geo: Vec<CellGeometry> = it.local.separation.iter().map(|d| heights.at(*d)).collect();
     let friction_coefficient = it
         .adhesion
         .limit
