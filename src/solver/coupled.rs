@@ -92,6 +92,11 @@ fn contact_of(
 /// q/(1 − q)·change stands for the residual ([`Coupled::contraction`]): at most the change itself.
 const MAX_CONTRACTION: f64 = 0.5;
 
+/// The largest measured contraction factor q for which the outer iteration extrapolates its update by
+/// Aitken's 1/(1 − q) ([`Relaxation::extrapolate`]): a slow contraction of a hot contact is nonlinear
+/// and alternates between monotone and oscillating steps, where the extrapolation overshoots.
+const MAX_EXTRAPOLATED_CONTRACTION: f64 = 0.2;
+
 /// Iterations without a new smallest residual after which the outer iteration counts as stalled and damps
 /// its oscillating cells one by one ([`Relaxation::damp_cells`], docs/model.md §9).
 const STALL_ITERATIONS: usize = 6;
@@ -114,10 +119,13 @@ struct Coupled<'s, 'w> {
     warm_temperature: bool,
     /// The temperature part of the last outer residual (∞ before the first).
     temperature_change: f64,
-    /// Whether the current temperature iterate is the last one's target itself (a plain fixed-point
-    /// step, ω = 1, no backtrack since): only then does the ratio of the last two temperature changes
-    /// measure the contraction of the fixed-point map ([`Coupled::contraction`]).
-    plain_step: bool,
+    /// The last temperature update, where it moved along its increment (T ← T + ω·Δ, any global ω, no
+    /// per-cell damping) and no backtrack followed: over its step the change of the target measures the
+    /// contraction of the fixed-point map ([`Coupled::contraction`]).
+    last_update: Option<LastUpdate>,
+    /// Whether an extrapolated update was taken back in this solve ([`Coupled::reject`]): no further
+    /// update extrapolates.
+    extrapolation_rejected: bool,
     /// The last heat partition: the start of the next one.
     heat_solution: Option<HeatSolution>,
     /// The tractions to start the exact tangential solve from [Pa]: the last iteration's, or the warm
@@ -132,6 +140,40 @@ struct Coupled<'s, 'w> {
     /// Whether this iteration's film had no solution (Newton's last film kept, see [`Coupled::local`]).
     film_failed: bool,
     report: SolverReport,
+}
+
+/// A temperature update along its increment: the iterate it started from and that iterate's target [K].
+struct LastUpdate {
+    iterate: Vec<f64>,
+    target: Vec<f64>,
+    /// Whether the update extrapolated beyond the target (ω > 1, [`Relaxation::extrapolate`]).
+    extrapolated: bool,
+}
+
+/// The contraction of the outer fixed point measured over the last update's step s = T_k − T_{k−1}
+/// ([`Coupled::contraction`]).
+#[derive(Clone, Copy)]
+struct Contraction {
+    /// The contraction factor q = max|T*(T_k) − T*(T_{k−1})| / max|s| [-].
+    factor: f64,
+    /// This iteration's temperature increment over the step, max|T*(T_k) − T_k| / max|s| (q itself after
+    /// a plain step, T_k = T*(T_{k−1})) [-].
+    increment_ratio: f64,
+    /// Whether the increment points along the step (Σ Δ_k·s > 0): the iteration approaches the fixed
+    /// point from one side, which Aitken's extrapolation 1/(1 − q) assumes.
+    monotone: bool,
+}
+
+impl Contraction {
+    /// The a-posteriori estimate of the iterate's distance from the fixed point (docs/model.md §9), in the
+    /// units of the outer residual: the returned temperature T*(T_k) lies within q/(1 − q) times the
+    /// relative temperature change `temperature_change`; T_k itself within the increment over 1 − q,
+    /// which τ_l(T_k) follows by its measured sensitivity, its relative change `tau_change` over the
+    /// step: increment ratio/(1 − q) times `tau_change`.
+    fn residual(self, temperature_change: f64, tau_change: f64) -> f64 {
+        let q = self.factor;
+        (q * temperature_change).max(self.increment_ratio * tau_change) / (1.0 - q)
+    }
 }
 
 /// What one outer iteration produced before the convergence test.
@@ -164,7 +206,8 @@ impl<'s, 'w> Coupled<'s, 'w> {
             warm_film: warm.and_then(WarmStart::film),
             warm_temperature,
             temperature_change: f64::INFINITY,
-            plain_step: false,
+            last_update: None,
+            extrapolation_rejected: false,
             heat_solution: None,
             traction_start: warm
                 .filter(|_| setup.steady.is_some())
@@ -192,12 +235,16 @@ impl<'s, 'w> Coupled<'s, 'w> {
                 .map(|(t, tc)| t - tc)
                 .collect();
             let (temperature_change, tau_change) = self.outer_changes(&step, &increment);
-            let contraction = self.contraction(temperature_change);
-            self.temperature_change = temperature_change;
-            let change = temperature_change.max(tau_change);
+            let contraction = self.contraction(&step.target, &increment);
+            let overshot = self.overshot(temperature_change);
+            if !overshot {
+                self.temperature_change = temperature_change;
+            }
             // the a-posteriori estimate of this iterate's distance from the fixed point where the
             // iteration is known to contract, else the change itself
-            self.report.residual = contraction.map_or(change, |q| q / (1.0 - q) * change);
+            self.report.residual = contraction.map_or(temperature_change.max(tau_change), |c| {
+                c.residual(temperature_change, tau_change)
+            });
             self.watch_for_stall();
 
             let solver = &self.setup.params.solver;
@@ -219,8 +266,12 @@ impl<'s, 'w> Coupled<'s, 'w> {
                 Some(Limiter::Film) if outer_met && self.film_failed => Termination::Stalled {
                     limited_by: Limiter::Film,
                 },
+                Some(_) if overshot => {
+                    self.reject();
+                    continue;
+                }
                 Some(_) => {
-                    self.update(step, increment);
+                    self.update(step, increment, contraction);
                     continue;
                 }
             };
@@ -336,7 +387,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
             }
         }
         self.relaxation.damp();
-        self.plain_step = false;
+        self.last_update = None;
         self.film = None;
         self.report.temperature_backtracks += 1;
         Ok(None)
@@ -415,26 +466,78 @@ impl<'s, 'w> Coupled<'s, 'w> {
         (t_change, tau_change)
     }
 
-    /// The contraction factor q of the outer fixed point T ↦ T_target, measured as the ratio of this
-    /// iteration's relative temperature change to the last one's, where the last update was a plain
-    /// step (T_k = T_target(T_{k−1}), so that the changes are successive differences of the map,
-    /// Δ_k ≈ J·Δ_{k−1}) and q < [`MAX_CONTRACTION`]; None otherwise (the first iteration, relaxed or
-    /// backtracked updates, slow or no contraction). With it, this iterate's distance from the fixed
-    /// point is at most q/(1 − q) times its change (the a-posteriori bound of a contraction, docs/model.md
-    /// §9): that of the temperature directly, that of τ_l (computed from the previous iterate, whose
-    /// distance is the change over 1 − q) through τ_l's measured sensitivity, its change over the last
-    /// temperature change.
-    fn contraction(&self, temperature_change: f64) -> Option<f64> {
-        let q = temperature_change / self.temperature_change;
-        (self.plain_step && self.temperature_change > 0.0 && q < MAX_CONTRACTION).then_some(q)
+    /// The contraction of the outer fixed point T ↦ T* over the last update's step s = T_k − T_{k−1}
+    /// (an update along its increment, s = ω·Δ_{k−1}, no backtrack since), given this iteration's
+    /// `target` T*(T_k) and `increment` T*(T_k) − T_k [K]: the factor q = max|T*(T_k) − T*(T_{k−1})| /
+    /// max|s|, the secant of the map along its last increment (after a plain step, ω = 1, the ratio of
+    /// the last two increments, Δ_k ≈ J·Δ_{k−1}); None where there is no such step or q ≥
+    /// [`MAX_CONTRACTION`] (the first iteration, backtracked or per-cell damped updates, slow or no
+    /// contraction). With it, [`Contraction::residual`] bounds the iterate's distance from the fixed point.
+    fn contraction(&self, target: &[f64], increment: &[f64]) -> Option<Contraction> {
+        let last = self.last_update.as_ref()?;
+        let step = max_abs_diff(&self.temperature, &last.iterate);
+        let factor = max_abs_diff(target, &last.target) / step;
+        let increment_ratio = increment.iter().fold(0.0, |m: f64, d| m.max(d.abs())) / step;
+        let along: f64 = increment
+            .iter()
+            .zip(&self.temperature)
+            .zip(&last.iterate)
+            .map(|((d, t), t_last)| d * (t - t_last))
+            .sum();
+        (step > 0.0 && factor < MAX_CONTRACTION).then_some(Contraction {
+            factor,
+            increment_ratio,
+            monotone: along > 0.0,
+        })
     }
 
-    /// Prepares the next iteration: the relaxed temperature update, and this iteration's adhesion limit,
-    /// separations and film as the next one's references and starts.
-    fn update(&mut self, step: Step, increment: Vec<f64>) {
+    /// Whether the last update extrapolated (ω > 1) and this iterate's relative temperature change
+    /// `temperature_change` is not below the last one's: the extrapolation did not reduce the increment,
+    /// it is taken back ([`Coupled::reject`]).
+    fn overshot(&self, temperature_change: f64) -> bool {
+        self.last_update.as_ref().is_some_and(|u| u.extrapolated)
+            && temperature_change >= self.temperature_change
+    }
+
+    /// Takes back an extrapolated update: the temperature becomes the plain step T*(T_{k−1}) of the
+    /// iterate the update started from, whose adhesion limit, separations, film and tractions stay the
+    /// references and starts of the next iteration (as after a plain update), and no later update of
+    /// this solve extrapolates.
+    fn reject(&mut self) {
+        if let Some(last) = &mut self.last_update {
+            self.temperature.copy_from_slice(&last.target);
+            last.extrapolated = false;
+        }
+        self.relaxation.reject();
+        self.extrapolation_rejected = true;
+    }
+
+    /// Prepares the next iteration: the temperature update, extrapolated by Aitken's 1/(1 − q) where the
+    /// iteration contracts measurably by q from one side ([`Relaxation::extrapolate`]) and no
+    /// extrapolation was taken back, else relaxed ([`Relaxation::apply`]); and this iteration's adhesion
+    /// limit, separations and film as the next one's references and starts.
+    fn update(&mut self, step: Step, increment: Vec<f64>, contraction: Option<Contraction>) {
         self.backtracking.remember(&self.temperature);
-        self.plain_step = self.relaxation.is_plain();
-        self.relaxation.apply(&mut self.temperature, increment);
+        let iterate = self.temperature.clone();
+        let extrapolated = match contraction {
+            Some(c)
+                if c.monotone
+                    && c.factor <= MAX_EXTRAPOLATED_CONTRACTION
+                    && !self.extrapolation_rejected =>
+            {
+                self.relaxation
+                    .extrapolate(&mut self.temperature, increment, c.factor)
+            }
+            _ => {
+                self.relaxation.apply(&mut self.temperature, increment);
+                false
+            }
+        };
+        self.last_update = self.relaxation.along_increment().then(|| LastUpdate {
+            iterate,
+            target: step.target,
+            extrapolated,
+        });
         self.prev_tau = Some(step.adhesion.limit);
         self.dry_guess = Some(step.local.dry_separation);
         self.film = step.local.film;

@@ -3,7 +3,10 @@
 //! The temperature ↔ failure-stress feedback makes the plain fixed point T ← T_target oscillate at high
 //! slip power; the update T ← T + ω·ΔT is relaxed with Aitken's Δ² factor in the vector form of Irons and
 //! Tuck (Int. J. Numer. Methods Eng. 1 (1969) 275): ω ← −ω·(Δ₀·(Δ₁ − Δ₀))/|Δ₁ − Δ₀|², clamped to
-//! [0.02, 1], with Δ₀, Δ₁ the previous and the current increment (docs/model.md §9).
+//! [0.02, 1], with Δ₀, Δ₁ the previous and the current increment (docs/model.md §9). Where the outer
+//! iteration has measured a contraction q < ½ of its fixed point along its increments, the coupled solver
+//! extrapolates instead ([`Relaxation::extrapolate`]): ω = 1/(1 − q), Aitken's factor for increments that
+//! shrink by q, which moves an iterate whose error lies along the increment onto the fixed point.
 //!
 //! One factor for the whole field cannot settle a few cells whose target is far steeper than the rest:
 //! where a wet contact's metal just covers a cell (the onset of the walls, §8.5) the film downstream
@@ -47,10 +50,18 @@ impl Relaxation {
         }
     }
 
-    /// Whether the updates so far were plain fixed-point steps T ← T_target (ω = 1, every per-cell factor
-    /// 1): then successive increments shrink by the contraction factor of the fixed-point map.
-    pub fn is_plain(&self) -> bool {
-        self.omega == 1.0 && self.cells.iter().flatten().all(|c| *c == 1.0)
+    /// Whether the next update moves the temperature along its increment, T ← T + ω·Δ (every per-cell
+    /// factor 1): then the step is a multiple of the increment, and the change of the target over the
+    /// step measures the contraction of the fixed-point map along it.
+    pub fn along_increment(&self) -> bool {
+        self.cells.iter().flatten().all(|c| *c == 1.0)
+    }
+
+    /// Takes back an extrapolated update: the iteration continues from the plain step T ← T_target of
+    /// the previous iterate (the caller sets that temperature), so the factor is 1 and the previous
+    /// increment stays that of the previous iterate.
+    pub fn reject(&mut self) {
+        self.omega = OMEGA_RANGE.1;
     }
 
     /// Switches on per-cell damping from the next update on (every factor starting at 1); see the module
@@ -66,8 +77,25 @@ impl Relaxation {
         self.omega *= 0.5;
     }
 
-    /// Updates ω by Aitken's Δ² from the previous increment (if any; ω is kept when the increments
-    /// agree) and, once switched on, the per-cell factors c_i, then moves `temperature` by
+    /// Extrapolates along `increment` [K] for the measured contraction factor `q` ∈ [0, 1) of the fixed
+    /// point (increments shrinking by q along it, from one side): Aitken's ω = 1/(1 − q), `temperature`
+    /// moved by ω·`increment`. While per-cell damping is on, the plain [`Relaxation::apply`] instead (the
+    /// damped cells do not contract); returns whether it extrapolated.
+    pub fn extrapolate(&mut self, temperature: &mut [f64], increment: Vec<f64>, q: f64) -> bool {
+        if self.cells.is_some() {
+            self.apply(temperature, increment);
+            return false;
+        }
+        self.omega = 1.0 / (1.0 - q);
+        for (t, d) in temperature.iter_mut().zip(&increment) {
+            *t += self.omega * d;
+        }
+        self.previous = Some(increment);
+        true
+    }
+
+    /// Updates ω by Aitken's Δ² from the previous increment (if any; ω is kept, at most 1, when the
+    /// increments agree) and, once switched on, the per-cell factors c_i, then moves `temperature` by
     /// ω·c_i·`increment`_i (c_i = 1 without per-cell damping) [K].
     pub fn apply(&mut self, temperature: &mut [f64], increment: Vec<f64>) {
         if let Some(cells) = &mut self.cells {
@@ -91,6 +119,8 @@ impl Relaxation {
                 self.omega = (-self.omega * num / den).clamp(OMEGA_RANGE.0, OMEGA_RANGE.1);
             }
         }
+        // (after an extrapolation ω > 1 may have been kept: no plain update extrapolates)
+        self.omega = self.omega.min(OMEGA_RANGE.1);
         // (without per-cell damping c_i = 1: ω·1·Δ_i is ω·Δ_i to the bit)
         let cells = self.cells.as_deref();
         for (i, (t, d)) in temperature.iter_mut().zip(&increment).enumerate() {
@@ -192,12 +222,12 @@ mod tests {
         r.damp_cells();
         let mut t = vec![0.0, 0.0];
         r.apply(&mut t, vec![1.0, 1.0]);
-        assert!(r.is_plain());
+        assert!(r.along_increment());
         r.apply(&mut t, vec![-1.0, 1.0]);
         // Aitken over the undamped cell only, whose increments agree: ω stays 1 (over both cells it would
         // be −1·(1·(−2) + 1·0)/(4 + 0) = 1/2)
         assert_eq!(t, vec![1.0 - 0.5, 1.0 + 1.0]);
-        assert!(!r.is_plain());
+        assert!(!r.along_increment());
     }
 
     /// A damped cell whose increment reverses at every update (±8 K, a cell that keeps switching) next to a
