@@ -50,6 +50,12 @@ impl Relaxation {
         }
     }
 
+    /// Whether the updates so far were plain fixed-point steps T ← T_target (ω = 1, every per-cell factor
+    /// 1): then successive increments shrink by the contraction factor of the fixed-point map.
+    pub fn is_plain(&self) -> bool {
+        self.omega == 1.0 && self.along_increment()
+    }
+
     /// Whether the next update moves the temperature along its increment, T ← T + ω·Δ (every per-cell
     /// factor 1): then the step is a multiple of the increment, and the change of the target over the
     /// step measures the contraction of the fixed-point map along it.
@@ -222,12 +228,12 @@ mod tests {
         r.damp_cells();
         let mut t = vec![0.0, 0.0];
         r.apply(&mut t, vec![1.0, 1.0]);
-        assert!(r.along_increment());
+        assert!(r.is_plain());
         r.apply(&mut t, vec![-1.0, 1.0]);
         // Aitken over the undamped cell only, whose increments agree: ω stays 1 (over both cells it would
         // be −1·(1·(−2) + 1·0)/(4 + 0) = 1/2)
         assert_eq!(t, vec![1.0 - 0.5, 1.0 + 1.0]);
-        assert!(!r.along_increment());
+        assert!(!r.is_plain());
     }
 
     /// A damped cell whose increment reverses at every update (±8 K, a cell that keeps switching) next to a
