@@ -4,7 +4,9 @@
 //! and fluid film ([`Setup::local`]) → failure stress and adhesion limit ([`Setup::adhesion`]) → FASTSIM
 //! or, with `tangential = "exact"`, Kalker's exact steady rolling with τ_l as the traction bound
 //! (docs/model.md §6.5; started from the previous iteration's tractions) (traction, slip) → frictional heat → surface temperature (the heat partition) → residual → relaxed
-//! temperature update ([`Relaxation`]); a film without solution backtracks the update ([`Backtracking`]).
+//! temperature update ([`Relaxation`]), or Aitken's extrapolation where a solve started near its fixed point
+//! contracts measurably ([`Coupled::update`]); a film without solution backtracks the update
+//! ([`Backtracking`]).
 
 use super::assembly::{Iterate, assemble};
 use super::backtracking::Backtracking;
@@ -124,9 +126,10 @@ struct Coupled<'s, 'w> {
     warm_temperature: bool,
     /// The temperature part of the last outer residual (∞ before the first).
     temperature_change: f64,
-    /// The last temperature update, where it moved along its increment (T ← T + ω·Δ, any global ω, no
-    /// per-cell damping) and no backtrack followed: over its step the change of the target measures the
-    /// contraction of the fixed-point map ([`Coupled::contraction`]).
+    /// The last temperature update where its step measures the contraction of the fixed-point map
+    /// ([`Coupled::contraction`]) and no backtrack followed: near the fixed point ([`Coupled::near`]) an
+    /// update along its increment (T ← T + ω·Δ, any global ω, no per-cell damping), otherwise a plain
+    /// one.
     last_update: Option<LastUpdate>,
     /// Whether the solve started near its fixed point: from a warm start's temperature that the first
     /// iteration changed by at most [`NEAR_START`]. Only then is the contraction measured over relaxed
@@ -167,13 +170,15 @@ struct LastUpdate {
 /// ([`Coupled::contraction`]).
 #[derive(Clone, Copy)]
 struct Contraction {
-    /// The contraction factor q = max|T*(T_k) − T*(T_{k−1})| / max|s| [-].
+    /// The contraction factor q = max|T*(T_k) − T*(T_{k−1})| / max|s|, each over its rise scale (after a
+    /// plain step the ratio of the last two relative changes) [-].
     factor: f64,
     /// This iteration's temperature increment over the step, max|T*(T_k) − T_k| / max|s| (q itself after
     /// a plain step, T_k = T*(T_{k−1})) [-].
     increment_ratio: f64,
     /// Whether the increment points along the step (Σ Δ_k·s > 0): the iteration approaches the fixed
-    /// point from one side, which Aitken's extrapolation 1/(1 − q) assumes.
+    /// point from one side, which Aitken's extrapolation 1/(1 − q) assumes (false where the contraction is
+    /// not measured over the step: far from the fixed point, [`Coupled::near`]).
     monotone: bool,
 }
 

@@ -3,10 +3,11 @@
 //! The temperature ↔ failure-stress feedback makes the plain fixed point T ← T_target oscillate at high
 //! slip power; the update T ← T + ω·ΔT is relaxed with Aitken's Δ² factor in the vector form of Irons and
 //! Tuck (Int. J. Numer. Methods Eng. 1 (1969) 275): ω ← −ω·(Δ₀·(Δ₁ − Δ₀))/|Δ₁ − Δ₀|², clamped to
-//! [0.02, 1], with Δ₀, Δ₁ the previous and the current increment (docs/model.md §9). Where the outer
-//! iteration has measured a contraction q < ½ of its fixed point along its increments, the coupled solver
-//! extrapolates instead ([`Relaxation::extrapolate`]): ω = 1/(1 − q), Aitken's factor for increments that
-//! shrink by q, which moves an iterate whose error lies along the increment onto the fixed point.
+//! [0.02, 1], with Δ₀, Δ₁ the previous and the current increment (docs/model.md §9). Where a solve started
+//! near its fixed point has measured a fast, monotone contraction q of it along its increments, the coupled
+//! solver extrapolates instead ([`Relaxation::extrapolate`]): ω = 1/(1 − q), Aitken's factor for
+//! increments that shrink by q, which moves an iterate whose error lies along the increment onto the fixed
+//! point.
 //!
 //! One factor for the whole field cannot settle a few cells whose target is far steeper than the rest:
 //! where a wet contact's metal just covers a cell (the onset of the walls, §8.5) the film downstream
@@ -56,9 +57,9 @@ impl Relaxation {
         self.omega == 1.0 && self.along_increment()
     }
 
-    /// Whether the next update moves the temperature along its increment, T ← T + ω·Δ (every per-cell
-    /// factor 1): then the step is a multiple of the increment, and the change of the target over the
-    /// step measures the contraction of the fixed-point map along it.
+    /// Whether every per-cell factor is 1 (or per-cell damping is off): the last update moved the
+    /// temperature along its increment, T ← T + ω·Δ, so that the change of the target over its step
+    /// measures the contraction of the fixed-point map along the increment.
     pub fn along_increment(&self) -> bool {
         self.cells.iter().flatten().all(|c| *c == 1.0)
     }
