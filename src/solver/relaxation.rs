@@ -3,7 +3,11 @@
 //! The temperature ↔ failure-stress feedback makes the plain fixed point T ← T_target oscillate at high
 //! slip power; the update T ← T + ω·ΔT is relaxed with Aitken's Δ² factor in the vector form of Irons and
 //! Tuck (Int. J. Numer. Methods Eng. 1 (1969) 275): ω ← −ω·(Δ₀·(Δ₁ − Δ₀))/|Δ₁ − Δ₀|², clamped to
-//! [0.02, 1], with Δ₀, Δ₁ the previous and the current increment (docs/model.md §9).
+//! [0.02, 1], with Δ₀, Δ₁ the previous and the current increment (docs/model.md §9). Where a solve started
+//! near its fixed point has measured a fast, monotone contraction q of it along its increments, the coupled
+//! solver extrapolates instead ([`Relaxation::extrapolate`]): ω = 1/(1 − q), Aitken's factor for
+//! increments that shrink by q, which moves an iterate whose error lies along the increment onto the fixed
+//! point.
 //!
 //! One factor for the whole field cannot settle a few cells whose target is far steeper than the rest:
 //! where a wet contact's metal just covers a cell (the onset of the walls, §8.5) the film downstream
@@ -50,7 +54,21 @@ impl Relaxation {
     /// Whether the updates so far were plain fixed-point steps T ← T_target (ω = 1, every per-cell factor
     /// 1): then successive increments shrink by the contraction factor of the fixed-point map.
     pub fn is_plain(&self) -> bool {
-        self.omega == 1.0 && self.cells.iter().flatten().all(|c| *c == 1.0)
+        self.omega == 1.0 && self.along_increment()
+    }
+
+    /// Whether every per-cell factor is 1 (or per-cell damping is off): the last update moved the
+    /// temperature along its increment, T ← T + ω·Δ, so that the change of the target over its step
+    /// measures the contraction of the fixed-point map along the increment.
+    pub fn along_increment(&self) -> bool {
+        self.cells.iter().flatten().all(|c| *c == 1.0)
+    }
+
+    /// Takes back an extrapolated update: the iteration continues from the plain step T ← T_target of
+    /// the previous iterate (the caller sets that temperature), so the factor is 1 and the previous
+    /// increment stays that of the previous iterate.
+    pub fn reject(&mut self) {
+        self.omega = OMEGA_RANGE.1;
     }
 
     /// Switches on per-cell damping from the next update on (every factor starting at 1); see the module
@@ -66,8 +84,25 @@ impl Relaxation {
         self.omega *= 0.5;
     }
 
-    /// Updates ω by Aitken's Δ² from the previous increment (if any; ω is kept when the increments
-    /// agree) and, once switched on, the per-cell factors c_i, then moves `temperature` by
+    /// Extrapolates along `increment` [K] for the measured contraction factor `q` ∈ [0, 1) of the fixed
+    /// point (increments shrinking by q along it, from one side): Aitken's ω = 1/(1 − q), `temperature`
+    /// moved by ω·`increment`. While per-cell damping is on, the plain [`Relaxation::apply`] instead (the
+    /// damped cells do not contract); returns whether it extrapolated.
+    pub fn extrapolate(&mut self, temperature: &mut [f64], increment: Vec<f64>, q: f64) -> bool {
+        if self.cells.is_some() {
+            self.apply(temperature, increment);
+            return false;
+        }
+        self.omega = 1.0 / (1.0 - q);
+        for (t, d) in temperature.iter_mut().zip(&increment) {
+            *t += self.omega * d;
+        }
+        self.previous = Some(increment);
+        true
+    }
+
+    /// Updates ω by Aitken's Δ² from the previous increment (if any; ω is kept, at most 1, when the
+    /// increments agree) and, once switched on, the per-cell factors c_i, then moves `temperature` by
     /// ω·c_i·`increment`_i (c_i = 1 without per-cell damping) [K].
     pub fn apply(&mut self, temperature: &mut [f64], increment: Vec<f64>) {
         if let Some(cells) = &mut self.cells {
@@ -91,6 +126,8 @@ impl Relaxation {
                 self.omega = (-self.omega * num / den).clamp(OMEGA_RANGE.0, OMEGA_RANGE.1);
             }
         }
+        // (after an extrapolation ω > 1 may have been kept: no plain update extrapolates)
+        self.omega = self.omega.min(OMEGA_RANGE.1);
         // (without per-cell damping c_i = 1: ω·1·Δ_i is ω·Δ_i to the bit)
         let cells = self.cells.as_deref();
         for (i, (t, d)) in temperature.iter_mut().zip(&increment).enumerate() {

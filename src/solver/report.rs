@@ -131,8 +131,9 @@ pub struct SolverReport {
     pub iterations: usize,
     /// Final residual: the larger of the relative change of the adhesion limit and of the temperature rise
     /// in the last iteration, or, where the outer iteration contracts measurably (plain steps, the last
-    /// two temperature changes falling by q < 1/2), the a-posteriori estimate q/(1 − q) times it of the
-    /// result's distance from the fixed point (docs/model.md §9).
+    /// two temperature changes falling by q < 1/2; near the fixed point the secant q over any update along
+    /// the increment), the a-posteriori estimate of the result's distance from the fixed point, q/(1 − q)
+    /// times it after a plain step (docs/model.md §9).
     pub residual: f64,
     /// Whether the result is converged (equal to `termination.converged()`).
     pub converged: bool,
