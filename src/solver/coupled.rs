@@ -12,7 +12,7 @@ use super::assembly::{Iterate, assemble};
 use super::backtracking::Backtracking;
 use super::cache::SetupCache;
 use super::closed_form::solve_polach;
-use super::local::{Adhesion, Local};
+use super::local::{Adhesion, DryIterate, Local};
 use super::relaxation::Relaxation;
 use super::report::{Limiter, SolverReport, Termination, first_unmet};
 use super::setup::Setup;
@@ -113,9 +113,10 @@ struct Coupled<'s, 'w> {
     setup: &'s Setup<'s>,
     /// The temperature iterate per cell [K].
     temperature: Vec<f64>,
-    /// Per-cell separations to start the microcontact Newton from: the last iterate's, or the warm
-    /// start's.
+    /// Per-cell separations to start the first iteration's microcontact Newton from: the warm start's.
     dry_guess: Option<Vec<f64>>,
+    /// The last iterate's dry state and the materials it was solved at (see [`DryIterate`]).
+    dry_previous: Option<DryIterate>,
     /// The adhesion limit of the last iteration [Pa].
     prev_tau: Option<Vec<f64>>,
     /// The film of the last iteration (dropped on a backtrack: the film restarts cold).
@@ -224,6 +225,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
             setup,
             temperature,
             dry_guess: warm.map(|w| w.separation.clone()),
+            dry_previous: None,
             prev_tau: None,
             film: None,
             warm_film: warm.and_then(WarmStart::film),
@@ -341,6 +343,10 @@ impl<'s, 'w> Coupled<'s, 'w> {
         let Some(local) = self.local(&mats)? else {
             return Ok(None);
         };
+        self.dry_previous = Some(DryIterate {
+            materials: mats.clone(),
+            dry: local.dry.clone(),
+        });
         let adhesion = self.setup.adhesion(&local, &mats);
         let traction = self.tangential(&adhesion.limit)?;
         let (target, heat_flux_wheel) = self.heat(&traction.power_density)?;
@@ -391,6 +397,7 @@ impl<'s, 'w> Coupled<'s, 'w> {
             setup.local(
                 mats,
                 self.dry_guess.as_deref(),
+                self.dry_previous.as_ref(),
                 start,
                 film_tolerance,
                 fallback,
@@ -600,7 +607,6 @@ impl<'s, 'w> Coupled<'s, 'w> {
             extrapolated,
         });
         self.prev_tau = Some(step.adhesion.limit);
-        self.dry_guess = Some(step.local.dry_separation);
         self.film = step.local.film;
         if self.setup.steady.is_some() {
             self.traction_start = Some(step.traction.traction);
@@ -642,6 +648,52 @@ mod tests {
     ) -> Setup<'s> {
         let (hertz, mat0, kalker, creep) = contact_of(params, point, cache).unwrap();
         Setup::new(params, point, hertz, &mat0, &kalker, creep, cache).unwrap()
+    }
+
+    /// A cell whose material is the same as at the last iterate keeps that iterate's dry state (marked
+    /// here by a shifted separation it would not solve to); a cell whose material changed solves again.
+    #[test]
+    fn the_dry_state_is_kept_where_the_material_is_unchanged() {
+        let params = Params::default();
+        let point = OperatingPoint {
+            creepage_x: 0.004,
+            ..OperatingPoint::default()
+        };
+        let cache = SetupCache::default();
+        let setup = setup_of(&params, &point, &cache);
+        let n = setup.grid.len();
+        let cold = vec![params.material.at(params.material.bulk_temperature); n];
+        let mut report = SolverReport::start();
+        let solve = |mats: &[MaterialState], previous: Option<&DryIterate>, report: &mut _| {
+            setup
+                .local(mats, None, previous, None, 1e-10, true, report)
+                .unwrap()
+                .dry
+        };
+        let first = solve(&cold, None, &mut report);
+        let mut marked = first.clone();
+        marked.separation.iter_mut().for_each(|d| *d *= 1.5);
+        let previous = DryIterate {
+            materials: cold.clone(),
+            dry: marked.clone(),
+        };
+        let mut hot = cold.clone();
+        hot[n / 2] = params.material.at(params.material.bulk_temperature + 50.0);
+        let again = solve(&hot, Some(&previous), &mut report);
+        for c in 0..n {
+            if c == n / 2 {
+                // solved at its new material: the asperities carry p_n at another separation
+                assert_ne!(again.separation[c], marked.separation[c]);
+                assert_ne!(again.separation[c], first.separation[c]);
+                assert!(
+                    (again.metal_load[c] - first.metal_load[c]).abs()
+                        <= 1e-12 * first.metal_load[c]
+                );
+            } else {
+                assert_eq!(again.separation[c], marked.separation[c], "cell {c}");
+                assert_eq!(again.area_fraction[c], first.area_fraction[c], "cell {c}");
+            }
+        }
     }
 
     /// The solve of `params` at `point` with every exact tangential solve limited to `max_sweeps`.

@@ -11,8 +11,8 @@ use crate::params::FrictionLaw;
 
 /// The microcontact and fluid state of every cell for one temperature field.
 pub(super) struct Local {
-    /// Separation at which the asperities alone carry p_n (equal to `separation` when dry) [m].
-    pub dry_separation: Vec<f64>,
+    /// The asperities alone carrying p_n in every cell (equal to the state below when dry).
+    pub dry: Dry,
     /// The largest A_m/A_n at the dry separation over the cells [-] (where the walls of the film begin,
     /// `fluid::takes_in_all`).
     pub max_dry_area_fraction: f64,
@@ -41,31 +41,46 @@ pub(super) struct Adhesion {
 }
 
 /// The asperity contact alone carrying p_n in every cell: the dry state the film starts from.
-struct Dry {
+#[derive(Clone)]
+pub(super) struct Dry {
     /// Separation d_dry [m].
-    separation: Vec<f64>,
+    pub separation: Vec<f64>,
     /// A_m/A_n at d_dry [-].
-    area_fraction: Vec<f64>,
+    pub area_fraction: Vec<f64>,
     /// p_m·A_m/A_n at d_dry (p_n, or the microcontact model's load floor) [Pa].
-    metal_load: Vec<f64>,
+    pub metal_load: Vec<f64>,
+}
+
+/// The dry state of an earlier iterate of the same solve (the same nominal pressures) and the materials
+/// it was solved at: a cell whose material is the same again (its temperature unchanged, e.g. ahead of
+/// the heat in the adhesion zone) keeps its state instead of solving the same separation again.
+pub(super) struct DryIterate {
+    /// The materials per cell the state was solved at.
+    pub materials: Vec<MaterialState>,
+    /// The state.
+    pub dry: Dry,
 }
 
 impl Setup<'_> {
     /// Microcontact (and, when wet, the fluid film) at the cells' material states.
     /// `fluid_tolerance` is the film sweep tolerance for this outer iteration.
-    /// `dry_guess`: per-cell separations to start the microcontact Newton from (the previous iterate).
+    /// `dry_guess`: per-cell separations to start the microcontact Newton from (a warm start's);
+    /// `previous`: the dry state of the last iterate, kept where a cell's material is unchanged and
+    /// otherwise the start of its Newton ([`Setup::dry`]).
     /// `fallback`: whether the film falls back to Gauss–Seidel sweeps where Newton stalls
     /// ([`solve_film`]), or keeps Newton's last film ([`solve_film_newton`]).
+    #[allow(clippy::too_many_arguments)]
     pub fn local(
         &self,
         mats: &[MaterialState],
         dry_guess: Option<&[f64]>,
+        previous: Option<&DryIterate>,
         warm: Option<FilmStart>,
         fluid_tolerance: f64,
         fallback: bool,
         report: &mut SolverReport,
     ) -> Result<Local> {
-        let dry = self.dry(mats, dry_guess, report)?;
+        let dry = self.dry(mats, dry_guess, previous, report)?;
         let max_dry_area_fraction = dry
             .area_fraction
             .iter()
@@ -75,11 +90,11 @@ impl Setup<'_> {
         if h_f0 <= 0.0 {
             let n = self.grid.len();
             return Ok(Local {
-                dry_separation: dry.separation.clone(),
-                separation: dry.separation,
+                separation: dry.separation.clone(),
                 max_dry_area_fraction,
-                area_fraction: dry.area_fraction,
-                metal_load: dry.metal_load,
+                area_fraction: dry.area_fraction.clone(),
+                metal_load: dry.metal_load.clone(),
+                dry,
                 fluid_pressure: vec![0.0; n],
                 fluid_height: vec![0.0; n],
                 regime: vec![Regime::Dry; n],
@@ -91,7 +106,7 @@ impl Setup<'_> {
         report.fluid_residual = film.residual;
         report.fluid_balance_residual = film.balance_residual;
         Ok(Local {
-            dry_separation: dry.separation,
+            dry,
             max_dry_area_fraction,
             separation: film.separation.clone(),
             area_fraction: film.area_fraction.clone(),
@@ -103,20 +118,30 @@ impl Setup<'_> {
         })
     }
 
-    /// The separation at which the asperities alone carry p_n in each cell (docs/model.md §4), each
-    /// Newton solve started from `dry_guess` (the previous iterate) or else from the neighbour just solved
-    /// in the same strip; an unconverged one is an error.
+    /// The separation at which the asperities alone carry p_n in each cell (docs/model.md §4): the
+    /// `previous` iterate's state where the cell's material is the same (the same inputs: the solve's
+    /// p_n and the material), else a Newton solve started from the previous iterate's separation,
+    /// `dry_guess` (a warm start's) or else from the neighbour just solved in the same strip; an
+    /// unconverged one is an error.
     fn dry(
         &self,
         mats: &[MaterialState],
         dry_guess: Option<&[f64]>,
+        previous: Option<&DryIterate>,
         report: &mut SolverReport,
     ) -> Result<Dry> {
         let n = self.grid.len();
         let mut dry_d = vec![0.0; n];
         let mut area = vec![0.0; n];
         let mut load = vec![0.0; n];
+        let dry_guess = previous.map(|p| &p.dry.separation[..]).or(dry_guess);
         for c in 0..n {
+            if let Some(p) = previous.filter(|p| p.materials[c] == mats[c]) {
+                dry_d[c] = p.dry.separation[c];
+                area[c] = p.dry.area_fraction[c];
+                load[c] = p.dry.metal_load[c];
+                continue;
+            }
             let guess = match dry_guess {
                 Some(g) => g[c],
                 None if c > 0 && self.grid.cells[c - 1].j == self.grid.cells[c].j => dry_d[c - 1],
