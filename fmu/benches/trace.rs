@@ -677,17 +677,20 @@ fn mbs_trace(c: &mut Criterion) {
             &m["time_per_step_ns_by_exact_dry"],
             &m["time_per_step_ns_by_exact_wet"],
         );
-        println!(
-            "    exact steps: dry mean {:.3} µs, p99 {:.3} µs; wet mean {:.3} µs, p99 {:.3} µs; real-time factor {:.2} (1 contact), {:.2} (8 contacts, one thread)",
-            us(&xd["mean"]),
-            us(&xd["p99"]),
-            us(&xw["mean"]),
-            us(&xw["p99"]),
-            m["real_time_factor"].as_f64().unwrap_or(f64::NAN),
-            m["real_time_factor_8_contacts"]
-                .as_f64()
-                .unwrap_or(f64::NAN),
-        );
+        let solved = m["by_exact"].as_u64().unwrap_or(0) > 0;
+        if solved {
+            println!(
+                "    exact steps: dry mean {:.3} µs, p99 {:.3} µs; wet mean {:.3} µs, p99 {:.3} µs; real-time factor {:.2} (1 contact), {:.2} (8 contacts, one thread)",
+                us(&xd["mean"]),
+                us(&xd["p99"]),
+                us(&xw["mean"]),
+                us(&xw["p99"]),
+                m["real_time_factor"].as_f64().unwrap_or(f64::NAN),
+                m["real_time_factor_8_contacts"]
+                    .as_f64()
+                    .unwrap_or(f64::NAN),
+            );
+        }
         if let Some(e) = m.get("error_vs_exact") {
             let f = |x: &Value| x.as_f64().unwrap_or(f64::NAN);
             let (force, t) = (
