@@ -1,7 +1,8 @@
 //! Mode auto's per-contact fallback grid against the default 30 × 30 grid (docs/model.md §6.4): the
 //! bundled table's accuracy, |ΔF|/F_N ≤ 1 % and T_max within 10 K, at the hardest contacts of the grid
 //! study — dry at the flange root with the largest temperature error, a wide contact under spin with the
-//! largest force error, wet at the flange root and on a round contact.
+//! largest force error, wet at the flange root, on a round contact and on the wet grid with fewer cells
+//! along x where it had its largest force error.
 
 use wheelrail::model::{Evaluated, Evaluator, FallbackGrid, Mode, Policy};
 use wheelrail::params::Geometry;
@@ -42,6 +43,11 @@ fn cases() -> Vec<([f64; 2], OperatingPoint, &'static str)> {
             [0.9826, 0.8945],
             point(0.014, 0.0006, 0.28, 93_551.0, 25.0, 1.0),
             "wet round contact at 1.4 % creepage",
+        ),
+        (
+            [1.0116, 2.6235],
+            point(0.002515, 0.00074, -0.673, 123_214.0, 6.61, 0.879),
+            "wet contact just short of a/b = 2 under spin (16 along x)",
         ),
     ]
 }

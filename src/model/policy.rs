@@ -96,9 +96,9 @@ impl Default for Policy {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum FallbackGrid {
     /// Where the model keeps the default grid (`grid` unset: 30 × 30, no accuracy target), the grid of each
-    /// evaluation's contact ellipse and film ([`crate::params::fallback_cells`]: 24 cells along x and 6 to 12
-    /// across, the cheapest that meet the bundled table's accuracy against 30 × 30, docs/model.md §6.4);
-    /// otherwise the model's grid.
+    /// evaluation's contact ellipse and film ([`crate::params::fallback_cells`]: 16 to 24 cells along x
+    /// and 6 to 12 across, the cheapest that meet the bundled table's accuracy against 30 × 30,
+    /// docs/model.md §6.4); otherwise the model's grid.
     #[default]
     PerContact,
     /// Always the model's grid.

@@ -397,6 +397,10 @@ impl GridParams {
 /// along x (the frictional heat of a cell lags its centre by up to half a cell), not across: T_max within
 /// 10 K of 30 × 30 needs about 24 cells along x at the flange root, however few across.
 pub const FALLBACK_CELLS_X: usize = 24;
+/// Cells along x of the per-contact fallback grid on a wet contact shorter than [`FALLBACK_LONG_CONTACT`]:
+/// the film carries part of the load and lowers the friction, the temperature rises less, and fewer cells
+/// along x keep T_max within 10 K (docs/model.md §6.4).
+pub const FALLBACK_CELLS_X_WET_SHORT: usize = 16;
 /// Fewest lateral cells of the per-contact fallback grid on a dry contact (the forces within 1 % of F_N of
 /// 30 × 30; docs/model.md §6.4).
 pub const FALLBACK_MIN_CELLS_Y_DRY: usize = 6;
@@ -413,7 +417,8 @@ pub const FALLBACK_LONG_CONTACT: f64 = 2.0;
 pub const FALLBACK_MAX_CELL_ASPECT: f64 = 6.0;
 
 /// The per-contact fallback grid [nx, ny] of a contact ellipse with semi-axes a (along x) and b [m], dry or
-/// `wet` (a film is modelled: wetness > 0 under the Tomberger law): [`FALLBACK_CELLS_X`] along x; across, the
+/// `wet` (a film is modelled: wetness > 0 under the Tomberger law): [`FALLBACK_CELLS_X`] along x
+/// ([`FALLBACK_CELLS_X_WET_SHORT`] on a wet contact shorter than [`FALLBACK_LONG_CONTACT`]); across, the
 /// fewest lateral cells of its kind ([`FALLBACK_MIN_CELLS_Y_DRY`], [`FALLBACK_MIN_CELLS_Y_WET`],
 /// [`FALLBACK_MIN_CELLS_Y_WET_LONG`]), or more where cells of that many would be longer across than
 /// [`FALLBACK_MAX_CELL_ASPECT`] times along x (h_y/h_x = (b/a)·nx/ny), at most [`GRID_REFERENCE`]. The cheapest
@@ -421,11 +426,11 @@ pub const FALLBACK_MAX_CELL_ASPECT: f64 = 6.0;
 /// docs/model.md §6.4). Mode auto's exact solves take it where the parameters keep the default grid
 /// (the evaluation policy's `FallbackGrid`).
 pub fn fallback_cells(a: f64, b: f64, wet: bool) -> [usize; 2] {
-    let nx = FALLBACK_CELLS_X;
-    let fewest = match wet {
-        false => FALLBACK_MIN_CELLS_Y_DRY,
-        true if a >= FALLBACK_LONG_CONTACT * b => FALLBACK_MIN_CELLS_Y_WET_LONG,
-        true => FALLBACK_MIN_CELLS_Y_WET,
+    let long = a >= FALLBACK_LONG_CONTACT * b;
+    let (nx, fewest) = match (wet, long) {
+        (false, _) => (FALLBACK_CELLS_X, FALLBACK_MIN_CELLS_Y_DRY),
+        (true, true) => (FALLBACK_CELLS_X, FALLBACK_MIN_CELLS_Y_WET_LONG),
+        (true, false) => (FALLBACK_CELLS_X_WET_SHORT, FALLBACK_MIN_CELLS_Y_WET),
     };
     // cells across that keep h_y/h_x = (b/a)·nx/ny within the aspect bound (a NaN ratio keeps the fewest)
     let for_aspect = (b / a * nx as f64 / FALLBACK_MAX_CELL_ASPECT).ceil();
@@ -609,14 +614,14 @@ mod tests {
         // a dry flange-root contact (a/b = 3.8) and a dry round one: the fewest lateral cells
         assert_eq!(fallback_cells(7.6e-3, 2e-3, false), [24, 6]);
         assert_eq!(fallback_cells(5e-3, 5e-3, false), [24, 6]);
-        // wet: more lateral cells, most on a long contact (from a/b = 2 on)
-        assert_eq!(fallback_cells(5e-3, 5e-3, true), [24, 8]);
-        assert_eq!(fallback_cells(3.99e-3, 2e-3, true), [24, 8]);
+        // wet: more lateral cells, most on a long contact (from a/b = 2 on); fewer along x on a short one
+        assert_eq!(fallback_cells(5e-3, 5e-3, true), [16, 8]);
+        assert_eq!(fallback_cells(3.99e-3, 2e-3, true), [16, 8]);
         assert_eq!(fallback_cells(4e-3, 2e-3, true), [24, 12]);
         assert_eq!(fallback_cells(7.6e-3, 2e-3, true), [24, 12]);
         // a wide contact: cells no longer across than six times along x, h_y/h_x = (b/a)·nx/ny
         assert_eq!(fallback_cells(2e-3, 4e-3, false), [24, 8]);
-        assert_eq!(fallback_cells(1e-3, 1e-2, true), [24, 40]);
+        assert_eq!(fallback_cells(1e-3, 1e-2, true), [16, 27]);
         for (a, b, wet) in [(2e-3, 4e-3, false), (1e-3, 1e-2, true), (3e-3, 7e-3, false)] {
             let [nx, ny] = fallback_cells(a, b, wet);
             let aspect = (b / a) * nx as f64 / ny as f64;

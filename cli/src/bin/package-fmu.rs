@@ -481,8 +481,8 @@ exact solver (<code>evaluation_mode</code> reports which: 1 table, 2 exact). The
 <code>resources/table/table.json</code>); <code>table_file</code> selects another. The exact solver's grid is
 <code>grid_size</code>&sup2; cells, or, with <code>grid_accuracy</code> &gt; 0, the cells whose measured force
 error |&Delta;F|/F<sub>N</sub> is within it (0.01: 10 &times; 10); with <code>grid_size</code> 0 (the default)
-30 &times; 30, and mode 0 solves the points the table does not serve on a grid per contact (24 cells along x,
-6 to 12 across: forces within 1 % of F<sub>N</sub> and T<sub>max</sub> within 10 K of 30 &times; 30);
+30 &times; 30, and mode 0 solves the points the table does not serve on a grid per contact (16 to 24 cells
+along x, 6 to 12 across: forces within 1 % of F<sub>N</sub> and T<sub>max</sub> within 10 K of 30 &times; 30);
 <code>converged</code> = false (with a warning and
 <code>fmi2Warning</code>) flags a coupled iteration that missed its tolerance.</li>
 <li><b>Directional derivatives</b> (<code>fmi2GetDirectionalDerivative</code>, Real outputs with respect to Real

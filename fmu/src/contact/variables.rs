@@ -394,7 +394,7 @@ const OWN_VARIABLES: [Variable; 20] = [
         GRID_SIZE,
         AUTOMATIC_GRID_SIZE,
         GRID_RANGE,
-        "Cells per axis of the contact grid of the exact solver; 0 (automatic): 30 x 30, and in mode 0 the points the table does not serve on a grid per contact (24 cells along x, 6 to 12 across, more on a wide contact: forces within 1 % of F_N and T_max within 10 K of 30 x 30)",
+        "Cells per axis of the contact grid of the exact solver; 0 (automatic): 30 x 30, and in mode 0 the points the table does not serve on a grid per contact (16 to 24 cells along x, 6 to 12 across, more on a wide contact: forces within 1 % of F_N and T_max within 10 K of 30 x 30)",
     ),
     integer_parameter(
         "mode",
