@@ -16,6 +16,10 @@
 //!   exact solver (a [`Notice::FellBack`] with the reason); table-only clamps points to the table's ranges
 //!   ([`Notice::Clamped`]) and refuses other parameters ([`crate::Error::TableParameters`]) or a contact
 //!   outside its geometry axes ([`crate::Error::TableGeometry`]); exact-only always solves.
+//! - **Fallback grid** ([`FallbackGrid`]): where the model keeps the default grid, mode auto solves the
+//!   points no table serves on the grid of each contact ([`crate::params::fallback_cells`], docs/model.md
+//!   §6.4), mode exact-only on the model's; [`Evaluator::exact_cells`] says which, and
+//!   [`Evaluator::evaluate_on`] solves on given cells (the evaluations behind one finite difference).
 //! - **Several tables** ([`Evaluator::with_tables`], e.g. one per region of contact geometry): each point
 //!   goes to the first table, in the given order, that is built for the model's parameters, covers the
 //!   contact and holds the point inside its ranges; table-only clamps to the first that covers the
@@ -712,7 +716,9 @@ impl Evaluator {
             return Ok(params.grid.cells());
         }
         let hertz = self.model.shape_of(geometry)?.contact(point.normal_force)?;
-        let wet = point.wetness > 0.0 && params.friction.law == FrictionLaw::Tomberger;
+        // a film is modelled where the inlet film w·h_f,max is positive under the Tomberger law (§8)
+        let wet = point.wetness * params.fluid.h_f_max > 0.0
+            && params.friction.law == FrictionLaw::Tomberger;
         Ok(fallback_cells(hertz.a, hertz.b, wet))
     }
 
