@@ -202,6 +202,8 @@ impl Contraction {
 
 /// What one outer iteration produced before the convergence test.
 struct Step {
+    /// The materials per cell of the iterate.
+    mats: Vec<MaterialState>,
     local: Local,
     adhesion: Adhesion,
     traction: TractionField,
@@ -343,14 +345,11 @@ impl<'s, 'w> Coupled<'s, 'w> {
         let Some(local) = self.local(&mats)? else {
             return Ok(None);
         };
-        self.dry_previous = Some(DryIterate {
-            materials: mats.clone(),
-            dry: local.dry.clone(),
-        });
         let adhesion = self.setup.adhesion(&local, &mats);
         let traction = self.tangential(&adhesion.limit)?;
         let (target, heat_flux_wheel) = self.heat(&traction.power_density)?;
         Ok(Some(Step {
+            mats,
             local,
             adhesion,
             traction,
@@ -607,6 +606,10 @@ impl<'s, 'w> Coupled<'s, 'w> {
             extrapolated,
         });
         self.prev_tau = Some(step.adhesion.limit);
+        self.dry_previous = Some(DryIterate {
+            materials: step.mats,
+            dry: step.local.dry,
+        });
         self.film = step.local.film;
         if self.setup.steady.is_some() {
             self.traction_start = Some(step.traction.traction);
