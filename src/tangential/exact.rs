@@ -1081,8 +1081,8 @@ mod tests {
     /// F_y on 15 × 15, 30 × 30 and 60 × 60 shrink by 1.6–2.8 per halving (measured 2.0–2.3; first order
     /// gives 2, second order 4), and the order-1 Richardson extrapolation 2·f(60) − f(30) lies within
     /// 0.5 % of CONTACT's converged F_y and M_z (measured 0.08–0.22 % and 0.11–0.13 %; the same
-    /// extrapolation of 160 × 288 and 320 × 576 lies within 0.05 %, the rest is the O(h²) remainder of the
-    /// 30/60 pair). The default 30 × 30 grid itself is within 3.5 % in F_y (measured 2.3–2.9 % low) and 1 %
+    /// extrapolation of 160 × 288 and 320 × 576 lies within 0.1 % and 0.01 %, the rest is the O(h²)
+    /// remainder of the 30/60 pair). The default 30 × 30 grid itself is within 3.5 % in F_y (measured 2.3–2.9 % low) and 1 %
     /// in M_z (0.4–0.7 % high).
     #[test]
     fn spin_converges_at_first_order_to_contacts_values() {
