@@ -157,13 +157,13 @@ pub struct Contact {
 }
 
 /// The text of a line without its comment, trimmed.
-fn content(line: &str) -> &str {
+pub(super) fn content(line: &str) -> &str {
     line.split('#').next().unwrap_or("").trim()
 }
 
 /// The cells of a line: split at commas, trimmed, and without the double quotes a spreadsheet may put
 /// around them.
-fn cells(line: &str) -> Vec<&str> {
+pub(super) fn cells(line: &str) -> Vec<&str> {
     line.split(',')
         .map(|c| c.trim().trim_matches('"').trim())
         .collect()
