@@ -210,10 +210,7 @@ fn row(
     params: &Params,
 ) -> Result<(OperatingPoint, Geometry, Vec<f64>, f64), String> {
     if cells.len() != width {
-        return Err(format!(
-            "{} values for {width} columns",
-            cells.len()
-        ));
+        return Err(format!("{} values for {width} columns", cells.len()));
     }
     let mut point = *base;
     for &(i, k) in &cols.inputs {
@@ -277,8 +274,8 @@ pub fn read(path: &Path, base: &OperatingPoint, params: &Params) -> Result<Data,
     let cols = columns(&header).map_err(|r| err(Some(header_line), r))?;
     let mut rows = Vec::new();
     for (n, line) in lines {
-        let (point, geometry, values, weight) = row(&cells(line), header.len(), &cols, base, params)
-            .map_err(|r| err(Some(n), r))?;
+        let (point, geometry, values, weight) =
+            row(&cells(line), header.len(), &cols, base, params).map_err(|r| err(Some(n), r))?;
         rows.push(Row {
             line: n,
             point,
@@ -334,7 +331,8 @@ pub fn curves(data: &Data) -> Vec<Vec<usize>> {
                     let p = &data.rows[k].point;
                     [p.creepage_x, p.creepage_y, p.spin]
                 };
-                c(i).partial_cmp(&c(j)).expect("validated inputs are finite")
+                c(i).partial_cmp(&c(j))
+                    .expect("validated inputs are finite")
             });
             members
         })
@@ -348,10 +346,8 @@ mod tests {
     fn read_text(text: &str) -> Result<Data, FitInputError> {
         static FILES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
         let n = FILES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let path = std::env::temp_dir().join(format!(
-            "wheelrail-fit-data-{}-{n}.csv",
-            std::process::id()
-        ));
+        let path =
+            std::env::temp_dir().join(format!("wheelrail-fit-data-{}-{n}.csv", std::process::id()));
         std::fs::write(&path, text).unwrap();
         let d = read(&path, &OperatingPoint::default(), &Params::default());
         let _ = std::fs::remove_file(path);
@@ -370,7 +366,10 @@ mod tests {
         );
         assert_eq!(d.rows.len(), 2);
         let r = &d.rows[0];
-        assert_eq!((r.line, r.point.creepage_x, r.point.speed), (3, 0.002, 10.0));
+        assert_eq!(
+            (r.line, r.point.creepage_x, r.point.speed),
+            (3, 0.002, 10.0)
+        );
         assert_eq!(r.point.normal_force, OperatingPoint::default().normal_force);
         assert_eq!((r.values.clone(), r.weight), (vec![0.3, -50.0], 2.0));
         assert_eq!(r.geometry, Params::default().geometry);
@@ -386,7 +385,10 @@ mod tests {
         assert_eq!(curves(&d), vec![vec![0, 1], vec![2]]);
         let d = read_text("curvature-x,curvature-y,f\n2,3,0.2\n").unwrap();
         let g = &d.rows[0].geometry;
-        assert_eq!((g.curvature_x, g.curvature_y, g.semi_axes), (2.0, 3.0, None));
+        assert_eq!(
+            (g.curvature_x, g.curvature_y, g.semi_axes),
+            (2.0, 3.0, None)
+        );
     }
 
     #[test]
@@ -396,21 +398,45 @@ mod tests {
             ("# only a comment\n", "empty"),
             ("creepage-x,f\n", "line 1: no measurements"),
             ("creepage-x,speed\n0.1,3\n", "line 1: no measured column"),
-            ("creepage-x,slip,f\n0.1,3,0.2\n", "line 1: unknown column \"slip\""),
+            (
+                "creepage-x,slip,f\n0.1,3,0.2\n",
+                "line 1: unknown column \"slip\"",
+            ),
             ("f,f\n0.1,0.2\n", "appears twice"),
-            ("semi-axis-a,f\n0.01,0.2\n", "column semi-axis-a needs column semi-axis-b"),
+            (
+                "semi-axis-a,f\n0.01,0.2\n",
+                "column semi-axis-a needs column semi-axis-b",
+            ),
             (
                 "semi-axis-a,semi-axis-b,curvature-x,curvature-y,f\n1,1,1,1,1\n",
                 "not both",
             ),
-            ("creepage-x,f\n0.001,0.2\n0.002,NaN\n", "line 3: f NaN is not a finite number"),
-            ("creepage-x,f\n0.001,0.2\n0.002,0.2x\n", "line 3: f \"0.2x\" is not a number"),
-            ("creepage-x,f\n0.001,inf\n", "line 2: f inf is not a finite number"),
+            (
+                "creepage-x,f\n0.001,0.2\n0.002,NaN\n",
+                "line 3: f NaN is not a finite number",
+            ),
+            (
+                "creepage-x,f\n0.001,0.2\n0.002,0.2x\n",
+                "line 3: f \"0.2x\" is not a number",
+            ),
+            (
+                "creepage-x,f\n0.001,inf\n",
+                "line 2: f inf is not a finite number",
+            ),
             ("creepage-x,f\n0.001\n", "line 2: 1 values for 2 columns"),
-            ("creepage-x,f\n,0.2\n", "line 2: no value in column creepage-x"),
+            (
+                "creepage-x,f\n,0.2\n",
+                "line 2: no value in column creepage-x",
+            ),
             ("creepage-x,f\n2.5,0.2\n", "line 2: creepage-x"),
-            ("creepage-x,f,weight\n0.001,0.2,0\n", "line 2: weight 0 must be > 0"),
-            ("semi-axis-a,semi-axis-b,f\n2,0.01,0.2\n", "line 2: geometry.semi_axes[0]"),
+            (
+                "creepage-x,f,weight\n0.001,0.2,0\n",
+                "line 2: weight 0 must be > 0",
+            ),
+            (
+                "semi-axis-a,semi-axis-b,f\n2,0.01,0.2\n",
+                "line 2: geometry.semi_axes[0]",
+            ),
         ] {
             let e = read_text(text).unwrap_err().to_string();
             assert!(e.contains(says), "{text:?}: {e}");

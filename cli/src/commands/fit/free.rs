@@ -6,7 +6,7 @@ use wheelrail::params::spec::{Bound, Range, Spec};
 use wheelrail::params::{Input, Param};
 
 /// How far inside its bounds a start on (or outside) a bound is moved, as a fraction of the bounded
-/// interval: the logistic map is flat at its ends, so a start there could not move.
+/// interval (absolute above a lower bound only): the map reaches a bound only at infinite u.
 const START_INSIDE: f64 = 0.01;
 
 /// The map of an unbounded variable u onto a parameter's bounds (and back).
@@ -49,14 +49,18 @@ impl Map {
         }
     }
 
-    /// The u of a start value θ₀, moved to [`START_INSIDE`] of the interval inside the bounds if it lies
-    /// closer to one, on one or beyond; with whether it was moved.
+    /// The u of a start value θ₀, moved to [`START_INSIDE`] of the interval inside the bounds if it lies on
+    /// or beyond one (near a bound the map is as the exponential one: θ − lo changes by the same fraction
+    /// for the same step of u); with whether it was moved.
     pub fn start(&self, theta: f64) -> (f64, bool) {
         match *self {
+            Map::Logistic { lo, hi } if theta > lo && theta < hi => {
+                (((theta - lo) / (hi - theta)).ln(), false)
+            }
             Map::Logistic { lo, hi } => {
                 let margin = START_INSIDE * (hi - lo);
                 let t = theta.clamp(lo + margin, hi - margin);
-                (((t - lo) / (hi - t)).ln(), t != theta)
+                (((t - lo) / (hi - t)).ln(), true)
             }
             Map::Above { lo } if theta > lo => ((theta - lo).ln(), false),
             Map::Above { .. } => (START_INSIDE.ln(), true),
@@ -112,7 +116,10 @@ pub fn param_of(key: &str, flag: &str) -> Result<Param, FitInputError> {
         }
         return Ok(p);
     }
-    if Input::ALL.into_iter().any(|i| i.spec().toml == key || i.spec().cli == Some(key)) {
+    if Input::ALL
+        .into_iter()
+        .any(|i| i.spec().toml == key || i.spec().cli == Some(key))
+    {
         return Err(FitInputError(format!(
             "{flag} {key}: an operating-point input, not a parameter (give it as a column of the data)"
         )));
@@ -126,7 +133,11 @@ pub fn param_of(key: &str, flag: &str) -> Result<Param, FitInputError> {
 
 /// Parses one `--bounds KEY=LO:HI`.
 fn bound_arg(text: &str) -> Result<(Param, f64, f64), FitInputError> {
-    let bad = || FitInputError(format!("--bounds {text}: expected KEY=LO:HI, e.g. roughness.k_r=0.1:0.9"));
+    let bad = || {
+        FitInputError(format!(
+            "--bounds {text}: expected KEY=LO:HI, e.g. roughness.k_r=0.1:0.9"
+        ))
+    };
     let (key, range) = text.split_once('=').ok_or_else(bad)?;
     let (lo, hi) = range.split_once(':').ok_or_else(bad)?;
     let number = |s: &str| s.trim().parse::<f64>().ok().filter(|x| x.is_finite());
@@ -161,7 +172,10 @@ pub fn free_parameters(keys: &[String], bounds: &[String]) -> Result<Vec<Free>, 
             )));
         }
         if narrowed.iter().any(|(q, _, _)| *q == p) {
-            return Err(FitInputError(format!("--bounds {text}: {} bounded twice", s.toml)));
+            return Err(FitInputError(format!(
+                "--bounds {text}: {} bounded twice",
+                s.toml
+            )));
         }
         if !(lo < hi) || !s.range.contains(lo) || !s.range.contains(hi) {
             return Err(FitInputError(format!(
@@ -245,17 +259,45 @@ mod tests {
     #[test]
     fn bad_keys_and_bounds_are_named() {
         for (free, bounds, says) in [
-            (vec!["friction.law"], vec![], "--free friction.law: not a scalar parameter key"),
+            (
+                vec!["friction.law"],
+                vec![],
+                "--free friction.law: not a scalar parameter key",
+            ),
             (vec!["no.such"], vec![], "--free no.such: not a scalar"),
             (vec!["creepage-x"], vec![], "an operating-point input"),
             (vec!["grid.nx"], vec![], "--free grid.nx: a whole number"),
             (vec![], vec![], "at least one key"),
-            (vec!["roughness.k_r", "roughness.k_r"], vec![], "given twice"),
-            (vec!["roughness.k_r"], vec!["roughness.k_r=0.2:1.5"], "inside its range (finite, 0 ..= 1)"),
-            (vec!["roughness.k_r"], vec!["roughness.k_r=0.6:0.2"], "lo < hi"),
-            (vec!["roughness.k_r"], vec!["roughness.k_r=a:b"], "expected KEY=LO:HI"),
-            (vec!["roughness.k_r"], vec!["roughness.k_r"], "expected KEY=LO:HI"),
-            (vec!["roughness.k_r"], vec!["friction.k_dry=1:2"], "friction.k_dry is not a free parameter"),
+            (
+                vec!["roughness.k_r", "roughness.k_r"],
+                vec![],
+                "given twice",
+            ),
+            (
+                vec!["roughness.k_r"],
+                vec!["roughness.k_r=0.2:1.5"],
+                "inside its range (finite, 0 ..= 1)",
+            ),
+            (
+                vec!["roughness.k_r"],
+                vec!["roughness.k_r=0.6:0.2"],
+                "lo < hi",
+            ),
+            (
+                vec!["roughness.k_r"],
+                vec!["roughness.k_r=a:b"],
+                "expected KEY=LO:HI",
+            ),
+            (
+                vec!["roughness.k_r"],
+                vec!["roughness.k_r"],
+                "expected KEY=LO:HI",
+            ),
+            (
+                vec!["roughness.k_r"],
+                vec!["friction.k_dry=1:2"],
+                "friction.k_dry is not a free parameter",
+            ),
             (
                 vec!["roughness.k_r"],
                 vec!["roughness.k_r=0.1:0.2", "roughness.k_r=0.1:0.3"],

@@ -35,7 +35,12 @@ pub struct FitArgs {
     #[arg(long, value_name = "FILE.csv")]
     data: PathBuf,
     /// The parameters to fit: TOML keys of scalar parameters (`wheelrail parameters`), comma-separated.
-    #[arg(long, value_name = "KEY[,KEY...]", value_delimiter = ',', required = true)]
+    #[arg(
+        long,
+        value_name = "KEY[,KEY...]",
+        value_delimiter = ',',
+        required = true
+    )]
     free: Vec<String>,
     /// Narrower bounds of free parameters than their allowed ranges.
     #[arg(long, value_name = "KEY=LO:HI", num_args = 1..)]
@@ -125,7 +130,13 @@ pub fn run(a: &FitArgs) -> Result<()> {
     };
     let text = serde_json::to_string_pretty(&report.json())? + "\n";
     write(&a.out.join("report.json"), &text)?;
-    plot(&a.out.join("fit.png"), &data, &fit.curves, &modelled, &fitted)?;
+    plot(
+        &a.out.join("fit.png"),
+        &data,
+        &fit.curves,
+        &modelled,
+        &fitted,
+    )?;
 
     if !outcome.converged {
         eprintln!("warning: the fit did not converge: {}", outcome.reason);
@@ -263,7 +274,11 @@ impl Report<'_> {
 fn fmu_parameters(params: &Params) -> Map<String, Value> {
     let mut m: Map<String, Value> = Param::ALL
         .into_iter()
-        .filter_map(|p| p.spec().fmu.map(|v| (v.name.to_string(), params.get(p).into())))
+        .filter_map(|p| {
+            p.spec()
+                .fmu
+                .map(|v| (v.name.to_string(), params.get(p).into()))
+        })
         .collect();
     if params.grid.nx == params.grid.ny {
         m.insert("grid_size".into(), params.grid.nx.into());
@@ -319,7 +334,11 @@ fn plot(
     modelled: &[Modelled],
     fitted: &Params,
 ) -> Result<()> {
-    const LABELS: [&str; 3] = ["longitudinal creepage ξ [-]", "lateral creepage η [-]", "spin φ [1/m]"];
+    const LABELS: [&str; 3] = [
+        "longitudinal creepage ξ [-]",
+        "lateral creepage η [-]",
+        "spin φ [1/m]",
+    ];
     let (mut measured, mut model) = (Vec::new(), Vec::new());
     let mut sweeps = Vec::new();
     for curve in curves {
@@ -368,7 +387,10 @@ fn plot(
         [k] => LABELS[*k],
         _ => "creepage ξ, η [-] or spin φ [1/m]",
     };
-    let title = format!("Fit: data (points) and fitted model (lines), {}", fitted.friction.law);
+    let title = format!(
+        "Fit: data (points) and fitted model (lines), {}",
+        fitted.friction.law
+    );
     data_and_lines_chart(
         path,
         &Chart {

@@ -100,13 +100,9 @@ impl Fit<'_> {
                                 Some(DERIVATIVE_TOLERANCE),
                                 &mut warm,
                             ),
-                            Solves::AsPoint => model_at(
-                                &evaluators[s],
-                                row,
-                                &self.data.measured,
-                                None,
-                                &mut None,
-                            ),
+                            Solves::AsPoint => {
+                                model_at(&evaluators[s], row, &self.data.measured, None, &mut None)
+                            }
                         };
                         m.map(|m| (k, m))
                             .with_context(|| format!("solving the data's line {}", row.line))
@@ -123,7 +119,11 @@ impl Fit<'_> {
         }
         Ok(out
             .into_iter()
-            .map(|set| set.into_iter().map(|m| m.expect("every row solved")).collect())
+            .map(|set| {
+                set.into_iter()
+                    .map(|m| m.expect("every row solved"))
+                    .collect()
+            })
             .collect())
     }
 
@@ -134,12 +134,11 @@ impl Fit<'_> {
         DVector::from_iterator(
             d.rows.len() * d.measured.len(),
             d.rows.iter().zip(m).flat_map(|(row, m)| {
-                d.measured
-                    .iter()
-                    .zip(row.values.iter().zip(&m.values))
-                    .map(|(q, (measured, model))| {
+                d.measured.iter().zip(row.values.iter().zip(&m.values)).map(
+                    |(q, (measured, model))| {
                         row.weight.sqrt() * (model - measured) / q.scale(&row.point)
-                    })
+                    },
+                )
             }),
         )
     }

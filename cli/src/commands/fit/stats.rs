@@ -122,12 +122,29 @@ mod tests {
         let j = DMatrix::from_fn(4, 2, |r, c| if c == 0 { x[r] } else { 0.0 });
         let u = uncertainty(&j, 0.1, &[1.0, 1.0], &["a", "b"]);
         assert!(u.undetermined[0].is_none() && u.std_error[1].is_none());
-        assert!(u.undetermined[1].as_deref().unwrap().contains("do not change"));
+        assert!(
+            u.undetermined[1]
+                .as_deref()
+                .unwrap()
+                .contains("do not change")
+        );
         // two nearly proportional columns: correlated
-        let j = DMatrix::from_fn(4, 2, |r, c| x[r] + 1.0 + if c == 1 { 1e-4 * x[r] * x[r] } else { 0.0 });
+        let j = DMatrix::from_fn(4, 2, |r, c| {
+            x[r] + 1.0 + if c == 1 { 1e-4 * x[r] * x[r] } else { 0.0 }
+        });
         let u = uncertainty(&j, 0.1, &[1.0, 1.0], &["a", "b"]);
-        assert!(u.undetermined[0].as_deref().unwrap().contains("correlated with b"));
-        assert!(u.undetermined[1].as_deref().unwrap().contains("correlated with a"));
+        assert!(
+            u.undetermined[0]
+                .as_deref()
+                .unwrap()
+                .contains("correlated with b")
+        );
+        assert!(
+            u.undetermined[1]
+                .as_deref()
+                .unwrap()
+                .contains("correlated with a")
+        );
         // exactly proportional: singular
         let j = DMatrix::from_fn(4, 2, |r, c| (c + 1) as f64 * (x[r] + 1.0));
         let u = uncertainty(&j, 0.1, &[1.0, 1.0], &["a", "b"]);
@@ -135,6 +152,11 @@ mod tests {
         // a standard error larger than the value
         let j = DMatrix::from_fn(4, 1, |r, _| 1e-3 * x[r]);
         let u = uncertainty(&j, 1.0, &[0.5], &["a"]);
-        assert!(u.undetermined[0].as_deref().unwrap().contains("larger than its value"));
+        assert!(
+            u.undetermined[0]
+                .as_deref()
+                .unwrap()
+                .contains("larger than its value")
+        );
     }
 }
