@@ -68,11 +68,30 @@ fn synthetic(
     (data, params)
 }
 
-fn fit(args: &[&str]) -> (serde_json::Value, String) {
-    let o = wheelrail(&[&["fit"], args].concat());
+/// `wheelrail fit` of `data` from the parameter file `params` with `free` keys and `extra` arguments into
+/// `out`: the report and stderr.
+fn fit(
+    data: &Path,
+    params: &Path,
+    free: &str,
+    extra: &[&str],
+    out: &Path,
+) -> (serde_json::Value, String) {
+    let (data, params, out_dir) = (
+        data.to_str().unwrap(),
+        params.to_str().unwrap(),
+        out.to_str().unwrap(),
+    );
+    let args = [
+        &[
+            "fit", "--data", data, "--params", params, "--free", free, "--out", out_dir,
+        ],
+        extra,
+    ]
+    .concat();
+    let o = wheelrail(&args);
     let err = String::from_utf8_lossy(&o.stderr).into_owned();
     assert!(o.status.success(), "{args:?}: {err}");
-    let out = Path::new(args[args.iter().position(|a| *a == "--out").unwrap() + 1]);
     let report = std::fs::read_to_string(out.join("report.json")).unwrap();
     assert!(out.join("fit.png").metadata().unwrap().len() > 1000);
     (serde_json::from_str(&report).unwrap(), err)
@@ -107,16 +126,13 @@ fn recovers_the_roughness_and_yield_span_of_curves_with_a_falling_branch() {
     let sigma = 0.003;
     let (data, params) = synthetic(&d, &truth, &start, &curves, &xi, sigma);
     let out = d.join("out");
-    let (r, err) = fit(&[
-        "--data",
-        data.to_str().unwrap(),
-        "--params",
-        params.to_str().unwrap(),
-        "--free",
+    let (r, err) = fit(
+        &data,
+        &params,
         "roughness.k_r,material.yield_span",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+        &[],
+        &out,
+    );
     assert_eq!(r["converged"], true, "{r:#}");
     assert!(!err.contains("cannot determine"), "{err}");
     for (key, value) in [("roughness.k_r", 0.3), ("material.yield_span", 800.0)] {
@@ -173,18 +189,13 @@ fn names_a_parameter_the_data_cannot_determine() {
     let xi = [0.001, 0.003, 0.01, 0.03];
     let (data, params) = synthetic(&d, &truth, &truth, &curves, &xi, 0.002);
     let out = d.join("out");
-    let (r, err) = fit(&[
-        "--data",
-        data.to_str().unwrap(),
-        "--params",
-        params.to_str().unwrap(),
-        "--free",
+    let (r, err) = fit(
+        &data,
+        &params,
         "roughness.k_r,fluid.k_wet",
-        "--bounds",
-        "roughness.k_r=0.2:0.8",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+        &["--bounds", "roughness.k_r=0.2:0.8"],
+        &out,
+    );
     assert_eq!(
         r["undetermined"],
         serde_json::json!(["fluid.k_wet"]),
@@ -205,16 +216,7 @@ fn names_a_parameter_the_data_cannot_determine() {
 
     // the roughness and the dry failure-stress factor both scale the adhesion limit (P3, P6): on these
     // curves they are not separable
-    let (r, err) = fit(&[
-        "--data",
-        data.to_str().unwrap(),
-        "--params",
-        params.to_str().unwrap(),
-        "--free",
-        "roughness.k_r,friction.k_dry",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (r, err) = fit(&data, &params, "roughness.k_r,friction.k_dry", &[], &out);
     for (key, other) in [
         ("roughness.k_r", "friction.k_dry"),
         ("friction.k_dry", "roughness.k_r"),

@@ -1,7 +1,7 @@
 //! The measurements of `wheelrail fit`: a CSV file whose header names the operating-point inputs as
 //! `point`'s flags, the contact geometry, the measured columns and an optional weight.
 
-use super::super::plan::{cells, content};
+use super::super::plan::{cells, csv_lines};
 use std::fmt;
 use std::path::Path;
 use wheelrail::params::{Geometry, Input, spec::SEMI_AXIS_RANGE};
@@ -262,11 +262,7 @@ pub fn read(path: &Path, base: &OperatingPoint, params: &Params) -> Result<Data,
         })
     };
     let text = std::fs::read_to_string(path).map_err(|e| err(None, e.to_string()))?;
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, content(l)))
-        .filter(|(_, l)| !l.is_empty());
+    let mut lines = csv_lines(&text);
     let (header_line, header) = lines
         .next()
         .ok_or_else(|| err(None, "empty: no header line and no measurements".into()))?;

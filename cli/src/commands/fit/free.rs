@@ -177,7 +177,7 @@ pub fn free_parameters(keys: &[String], bounds: &[String]) -> Result<Vec<Free>, 
                 s.toml
             )));
         }
-        if !(lo < hi) || !s.range.contains(lo) || !s.range.contains(hi) {
+        if lo >= hi || !s.range.contains(lo) || !s.range.contains(hi) {
             return Err(FitInputError(format!(
                 "--bounds {text}: the bounds of {} must satisfy lo < hi inside its range ({})",
                 s.toml,
