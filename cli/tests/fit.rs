@@ -37,18 +37,18 @@ fn normals(seed: u64, n: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Writes `params` to DIR/start.toml and measurements of the model with `truth` at the creepages `xi`
-/// (with `extra` inputs per curve) plus noise of standard deviation `sigma` on f to DIR/data.csv.
+/// Writes `start` to DIR/start.toml and measurements of the model with `truth` at the creepages `xi` of
+/// each of the `curves` plus noise of standard deviation `sigma` on f (from `seed`) to DIR/data.csv.
 fn synthetic(
     d: &Path,
     truth: &Params,
     start: &Params,
     curves: &[OperatingPoint],
     xi: &[f64],
-    sigma: f64,
+    (sigma, seed): (f64, u64),
 ) -> (PathBuf, PathBuf) {
     let model = Model::new(truth.clone()).unwrap();
-    let noise = normals(7, curves.len() * xi.len());
+    let noise = normals(seed, curves.len() * xi.len());
     let mut csv = String::from("creepage-x,speed,wetness,f\n");
     let mut k = 0;
     for c in curves {
@@ -105,17 +105,19 @@ fn coarse() -> Params {
     p
 }
 
-#[test]
-fn recovers_the_roughness_and_yield_span_of_curves_with_a_falling_branch() {
-    let d = dir("recover");
+/// The true roughness and yield-stress span of [`falling_curves`].
+const TRUTH: [(&str, f64); 2] = [("roughness.k_r", 0.3), ("material.yield_span", 800.0)];
+
+/// Dry measurements at two speeds, rising to a peak near 0.3 % and falling with the heat at high creepage
+/// (the yield stress falls over yield_span with the temperature), by the model with [`TRUTH`] and noise
+/// of standard deviation `sigma` from `seed`, into DIR; the start parameters away from the truth.
+fn falling_curves(d: &Path, sigma: f64, seed: u64) -> (PathBuf, PathBuf) {
     let mut truth = coarse();
-    truth.roughness.k_r = 0.3;
-    truth.material.yield_span = 800.0;
+    truth.roughness.k_r = TRUTH[0].1;
+    truth.material.yield_span = TRUTH[1].1;
     let mut start = coarse();
     start.roughness.k_r = 0.6;
     start.material.yield_span = 1200.0;
-    // two speeds: dry curves rising to a peak near 0.3 % and falling with the heat at high creepage (the
-    // yield stress falls over yield_span with the temperature)
     let curves = [10.0, 40.0].map(|v| OperatingPoint {
         speed: v,
         ..OperatingPoint::default()
@@ -123,8 +125,14 @@ fn recovers_the_roughness_and_yield_span_of_curves_with_a_falling_branch() {
     let xi = [
         0.0005, 0.001, 0.002, 0.003, 0.005, 0.01, 0.02, 0.04, 0.07, 0.1,
     ];
+    synthetic(d, &truth, &start, &curves, &xi, (sigma, seed))
+}
+
+#[test]
+fn recovers_the_roughness_and_yield_span_of_curves_with_a_falling_branch() {
+    let d = dir("recover");
     let sigma = 0.003;
-    let (data, params) = synthetic(&d, &truth, &start, &curves, &xi, sigma);
+    let (data, params) = falling_curves(&d, sigma, 7);
     let out = d.join("out");
     let (r, err) = fit(
         &data,
@@ -135,7 +143,7 @@ fn recovers_the_roughness_and_yield_span_of_curves_with_a_falling_branch() {
     );
     assert_eq!(r["converged"], true, "{r:#}");
     assert!(!err.contains("cannot determine"), "{err}");
-    for (key, value) in [("roughness.k_r", 0.3), ("material.yield_span", 800.0)] {
+    for (key, value) in TRUTH {
         let p = &r["parameters"][key];
         let (fitted, se) = (
             p["value"].as_f64().unwrap(),
@@ -180,6 +188,55 @@ fn recovers_the_roughness_and_yield_span_of_curves_with_a_falling_branch() {
     }
 }
 
+/// The standard errors are honest: over fits to the same curves with independent noise, the fitted values
+/// scatter by the standard errors the report gives, and about 95 % lie within two of them.
+#[test]
+fn standard_errors_match_the_scatter_over_repeated_noise() {
+    const FITS: u64 = 12;
+    let mut fitted: Vec<[(f64, f64); 2]> = Vec::new();
+    for seed in 1..=FITS {
+        let d = dir(&format!("scatter-{seed}"));
+        let (data, params) = falling_curves(&d, 0.003, 100 + seed);
+        let (r, _) = fit(
+            &data,
+            &params,
+            "roughness.k_r,material.yield_span",
+            &[],
+            &d.join("out"),
+        );
+        assert_eq!(r["converged"], true);
+        fitted.push(TRUTH.map(|(key, _)| {
+            let p = &r["parameters"][key];
+            (
+                p["value"].as_f64().unwrap(),
+                p["std_error"].as_f64().unwrap(),
+            )
+        }));
+    }
+    for (k, (key, truth)) in TRUTH.iter().enumerate() {
+        let n = FITS as f64;
+        let mean = fitted.iter().map(|f| f[k].0).sum::<f64>() / n;
+        let scatter =
+            (fitted.iter().map(|f| (f[k].0 - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+        let reported = fitted.iter().map(|f| f[k].1).sum::<f64>() / n;
+        // the sample standard deviation of 12 fits is within about ±40 % of the true one (two of its
+        // standard errors, 1/sqrt(2·11))
+        let ratio = scatter / reported;
+        assert!(
+            (0.6..1.6).contains(&ratio),
+            "{key}: scatter {scatter}, reported {reported}"
+        );
+        let within = fitted
+            .iter()
+            .filter(|f| (f[k].0 - truth).abs() < 2.0 * f[k].1)
+            .count();
+        assert!(
+            within >= 10,
+            "{key}: {within} of {FITS} within two standard errors"
+        );
+    }
+}
+
 #[test]
 fn names_a_parameter_the_data_cannot_determine() {
     // dry data do not depend on the wet failure-stress factor
@@ -187,7 +244,7 @@ fn names_a_parameter_the_data_cannot_determine() {
     let truth = coarse();
     let curves = [OperatingPoint::default()];
     let xi = [0.001, 0.003, 0.01, 0.03];
-    let (data, params) = synthetic(&d, &truth, &truth, &curves, &xi, 0.002);
+    let (data, params) = synthetic(&d, &truth, &truth, &curves, &xi, (0.002, 7));
     let out = d.join("out");
     let (r, err) = fit(
         &data,
