@@ -424,14 +424,17 @@ mod tests {
                 "creepage-x,f\n,0.2\n",
                 "line 2: no value in column creepage-x",
             ),
-            ("creepage-x,f\n2.5,0.2\n", "line 2: creepage-x"),
+            (
+                "creepage-x,f\n2.5,0.2\n",
+                "line 2: invalid value for creepage-x: 2.5",
+            ),
             (
                 "creepage-x,f,weight\n0.001,0.2,0\n",
                 "line 2: weight 0 must be > 0",
             ),
             (
                 "semi-axis-a,semi-axis-b,f\n2,0.01,0.2\n",
-                "line 2: geometry.semi_axes[0]",
+                "line 2: invalid value for geometry.semi_axes[0]",
             ),
         ] {
             let e = read_text(text).unwrap_err().to_string();
