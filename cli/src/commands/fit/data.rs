@@ -83,12 +83,40 @@ pub struct Row {
     pub line: usize,
     /// The operating point: the row's inputs, the others at `point`'s defaults or flags.
     pub point: OperatingPoint,
-    /// The contact geometry: the row's semi-axes or curvatures, else the parameter set's.
-    pub geometry: Geometry,
+    /// The contact geometry the row gives.
+    pub geometry: RowGeometry,
     /// The measured values, one per measured column of the file ([`Data::measured`], same order).
     pub values: Vec<f64>,
     /// The relative weight of its squared residuals.
     pub weight: f64,
+}
+
+/// The contact geometry of a row.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RowGeometry {
+    /// None: the parameter set's (which a fit of `geometry.curvature_x` or `curvature_y` changes).
+    Parameters,
+    /// Prescribed semi-axes [a, b] [m].
+    SemiAxes([f64; 2]),
+    /// Gap curvatures [A, B] [1/m].
+    Curvatures([f64; 2]),
+}
+
+impl RowGeometry {
+    /// The contact geometry of the row with the parameter set `params`.
+    pub fn of(&self, params: &Params) -> Geometry {
+        let mut g = params.geometry.clone();
+        match *self {
+            RowGeometry::Parameters => {}
+            RowGeometry::SemiAxes(axes) => g.semi_axes = Some(axes),
+            RowGeometry::Curvatures([a, b]) => {
+                g.curvature_x = a;
+                g.curvature_y = b;
+                g.semi_axes = None;
+            }
+        }
+        g
+    }
 }
 
 /// The measurements of a data file.
@@ -208,7 +236,7 @@ fn row(
     cols: &Columns,
     base: &OperatingPoint,
     params: &Params,
-) -> Result<(OperatingPoint, Geometry, Vec<f64>, f64), String> {
+) -> Result<(OperatingPoint, RowGeometry, Vec<f64>, f64), String> {
     if cells.len() != width {
         return Err(format!("{} values for {width} columns", cells.len()));
     }
@@ -217,19 +245,18 @@ fn row(
         point.set(i, number(cells, k, input_column(i))?);
     }
     point.validate().map_err(|e| e.to_string())?;
-    let mut geometry = params.geometry.clone();
-    if let Some([a, b]) = cols.semi_axes {
-        geometry.semi_axes = Some([
+    let geometry = match (cols.semi_axes, cols.curvatures) {
+        (Some([a, b]), _) => RowGeometry::SemiAxes([
             number(cells, a, SEMI_AXES[0])?,
             number(cells, b, SEMI_AXES[1])?,
-        ]);
-    }
-    if let Some([a, b]) = cols.curvatures {
-        geometry.curvature_x = number(cells, a, CURVATURES[0])?;
-        geometry.curvature_y = number(cells, b, CURVATURES[1])?;
-        geometry.semi_axes = None;
-    }
-    geometry.validate().map_err(|e| {
+        ]),
+        (None, Some([a, b])) => RowGeometry::Curvatures([
+            number(cells, a, CURVATURES[0])?,
+            number(cells, b, CURVATURES[1])?,
+        ]),
+        (None, None) => RowGeometry::Parameters,
+    };
+    geometry.of(params).validate().map_err(|e| {
         format!(
             "{e} (semi-axes in {}; the columns are {})",
             SEMI_AXIS_RANGE.bounds(),
@@ -293,25 +320,19 @@ pub fn read(path: &Path, base: &OperatingPoint, params: &Params) -> Result<Data,
 }
 
 /// The rows of `data` as curves for warm starts: rows with the same load, speed, wetness and geometry
-/// form a curve, ordered by (ξ, η, φ) so that each solve starts from its neighbour along the swept
+/// (columns) form a curve, ordered by (ξ, η, φ) so that each solve starts from its neighbour along the swept
 /// creepage. Each curve is the list of its rows' indices; the curves are in the order of their first row.
 pub fn curves(data: &Data) -> Vec<Vec<usize>> {
     let key = |r: &Row| {
         let p = &r.point;
-        let g = &r.geometry;
-        let [a, b] = g.semi_axes.unwrap_or([f64::NAN; 2]);
-        [
-            p.normal_force,
-            p.speed,
-            p.wetness,
-            g.curvature_x,
-            g.curvature_y,
-            a,
-            b,
-        ]
-        .map(f64::to_bits)
+        let (kind, [a, b]) = match r.geometry {
+            RowGeometry::Parameters => (0.0, [0.0; 2]),
+            RowGeometry::SemiAxes(axes) => (1.0, axes),
+            RowGeometry::Curvatures(c) => (2.0, c),
+        };
+        [p.normal_force, p.speed, p.wetness, kind, a, b].map(f64::to_bits)
     };
-    let mut groups: Vec<([u64; 7], Vec<usize>)> = Vec::new();
+    let mut groups: Vec<([u64; 6], Vec<usize>)> = Vec::new();
     for (k, r) in data.rows.iter().enumerate() {
         let id = key(r);
         match groups.iter_mut().find(|(g, _)| *g == id) {
@@ -368,7 +389,11 @@ mod tests {
         );
         assert_eq!(r.point.normal_force, OperatingPoint::default().normal_force);
         assert_eq!((r.values.clone(), r.weight), (vec![0.3, -50.0], 2.0));
-        assert_eq!(r.geometry, Params::default().geometry);
+        assert_eq!(r.geometry, RowGeometry::Parameters);
+        // without geometry columns the row's contact follows the parameters (a fitted curvature)
+        let mut p = Params::default();
+        p.geometry.curvature_y = 0.3;
+        assert_eq!(r.geometry.of(&p), p.geometry);
         assert_eq!(d.rows[1].line, 5);
         // one curve, ordered by creepage
         assert_eq!(curves(&d), vec![vec![1, 0]]);
@@ -377,10 +402,13 @@ mod tests {
     #[test]
     fn geometry_columns_set_the_contact_and_split_the_curves() {
         let d = read_text("creepage-x,semi-axis-a,semi-axis-b,f\n0.001,0.006,0.01,0.2\n0.002,0.006,0.01,0.3\n0.001,0.005,0.01,0.2\n").unwrap();
-        assert_eq!(d.rows[0].geometry.semi_axes, Some([0.006, 0.01]));
+        assert_eq!(
+            d.rows[0].geometry.of(&Params::default()).semi_axes,
+            Some([0.006, 0.01])
+        );
         assert_eq!(curves(&d), vec![vec![0, 1], vec![2]]);
         let d = read_text("curvature-x,curvature-y,f\n2,3,0.2\n").unwrap();
-        let g = &d.rows[0].geometry;
+        let g = d.rows[0].geometry.of(&Params::default());
         assert_eq!(
             (g.curvature_x, g.curvature_y, g.semi_axes),
             (2.0, 3.0, None)

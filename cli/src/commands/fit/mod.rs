@@ -67,21 +67,23 @@ pub fn run(a: &FitArgs) -> Result<()> {
         .into());
     }
     let initial: Vec<f64> = free.iter().map(|f| params.get(f.param)).collect();
-    let u0: Vec<f64> = free
+    // the mapped start of each parameter and its value: the initial one, or moved off a bound
+    let (u0, start): (Vec<f64>, Vec<f64>) = free
         .iter()
         .zip(&initial)
         .map(|(f, &x)| {
             let (u, moved) = f.map.start(x);
-            if moved {
-                eprintln!(
-                    "note: {} starts at {} instead of {x}, inside its bounds",
-                    f.spec().toml,
-                    f.value(u)
-                );
+            if !moved {
+                return (u, x);
             }
-            u
+            eprintln!(
+                "note: {} starts at {} instead of {x}, inside its bounds",
+                f.spec().toml,
+                f.value(u)
+            );
+            (u, f.value(u))
         })
-        .collect();
+        .unzip();
     let fit = Fit {
         base: &params,
         free: &free,
@@ -115,7 +117,6 @@ pub fn run(a: &FitArgs) -> Result<()> {
         anyhow::bail!("the fitted parameter set does not read back from its TOML text");
     }
     write(&a.out.join("fitted.toml"), &toml)?;
-    let start: Vec<f64> = free.iter().zip(&u0).map(|(f, &u)| f.value(u)).collect();
     let report = Report {
         free: &free,
         data: &data,
@@ -246,14 +247,15 @@ impl Report<'_> {
         v.insert("line".into(), row.line.into());
         let p = serde_json::to_value(row.point).expect("an operating point serialises");
         v.extend(p.as_object().expect("object").clone());
-        match row.geometry.semi_axes {
+        let g = row.geometry.of(self.fitted);
+        match g.semi_axes {
             Some([a, b]) => {
                 v.insert("semi_axis_a".into(), a.into());
                 v.insert("semi_axis_b".into(), b.into());
             }
             None => {
-                v.insert("curvature_x".into(), row.geometry.curvature_x.into());
-                v.insert("curvature_y".into(), row.geometry.curvature_y.into());
+                v.insert("curvature_x".into(), g.curvature_x.into());
+                v.insert("curvature_y".into(), g.curvature_y.into());
             }
         }
         v.insert("weight".into(), row.weight.into());

@@ -181,7 +181,8 @@ fn model_at(
     tolerance: Option<f64>,
     warm: &mut Option<wheelrail::model::WarmStart>,
 ) -> Result<Modelled> {
-    let e = evaluator.evaluate_at(&row.point, &row.geometry, tolerance, warm)?;
+    let geometry = row.geometry.of(evaluator.model().params());
+    let e = evaluator.evaluate_at(&row.point, &geometry, tolerance, warm)?;
     Ok(match &e.by {
         Evaluated::Exact(x) => Modelled {
             values: measured.iter().map(|q| q.of(&x.global)).collect(),
