@@ -188,6 +188,32 @@ fn recovers_the_roughness_and_yield_span_of_curves_with_a_falling_branch() {
     }
 }
 
+#[test]
+fn recovers_the_wet_failure_stress_factor_of_flooded_curves() {
+    // flooded (w = 1) curves saturate at the boundary-lubricated traction set by k_wet (docs/model.md §8)
+    let d = dir("wet");
+    let mut truth = coarse();
+    truth.fluid.k_wet = 0.3;
+    let curves = [5.0, 30.0].map(|v| OperatingPoint {
+        speed: v,
+        wetness: 1.0,
+        ..OperatingPoint::default()
+    });
+    let xi = [0.0005, 0.001, 0.002, 0.004, 0.008, 0.02, 0.05];
+    let (data, params) = synthetic(&d, &truth, &coarse(), &curves, &xi, (0.002, 11));
+    let (r, _) = fit(&data, &params, "fluid.k_wet", &[], &d.join("out"));
+    let p = &r["parameters"]["fluid.k_wet"];
+    let (fitted, se) = (
+        p["value"].as_f64().unwrap(),
+        p["std_error"].as_f64().unwrap(),
+    );
+    assert_eq!(p["initial"], 0.4);
+    assert!(
+        (fitted - 0.3).abs() < 2.0 * se && se < 0.01,
+        "{fitted} ± {se}"
+    );
+}
+
 /// The standard errors are honest: over fits to the same curves with independent noise, the fitted values
 /// scatter by the standard errors the report gives, and about 95 % lie within two of them.
 #[test]
