@@ -289,7 +289,8 @@ pub fn read(path: &Path, base: &OperatingPoint, params: &Params) -> Result<Data,
         })
     };
     let text = std::fs::read_to_string(path).map_err(|e| err(None, e.to_string()))?;
-    let mut lines = csv_lines(&text);
+    // a spreadsheet may begin the file with a byte-order mark
+    let mut lines = csv_lines(text.trim_start_matches('\u{feff}'));
     let (header_line, header) = lines
         .next()
         .ok_or_else(|| err(None, "empty: no header line and no measurements".into()))?;
@@ -374,7 +375,7 @@ mod tests {
     #[test]
     fn rows_take_their_columns_and_the_defaults_for_the_rest() {
         let d = read_text(
-            "# a roller rig\ncreepage-x,speed,f,force-y,weight\n0.002,10,0.3,-50,2\n\n0.001,10,0.2,-40,1 # low\n",
+            "\u{feff}# a roller rig\ncreepage-x,speed,f,force-y,weight\n0.002,10,0.3,-50,2\n\n0.001,10,0.2,-40,1 # low\n",
         )
         .unwrap();
         assert_eq!(
