@@ -160,6 +160,7 @@ pub fn run(a: &FitArgs) -> Result<()> {
     Ok(())
 }
 
+/// Writes one output file; the error names it.
 fn write(path: &Path, text: &str) -> Result<()> {
     std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
 }

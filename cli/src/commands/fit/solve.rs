@@ -1,7 +1,7 @@
 //! The least-squares problem of `wheelrail fit`: the model at every data row for a parameter set (curves
 //! in parallel, warm starts along each curve), the weighted residuals, their Jacobian by central
 //! differences, bounded Levenberg–Marquardt (MINPACK's method, the `levenberg-marquardt` crate) in the
-//! mapped variables of [`super::free`], and the standard errors and correlations at the solution.
+//! mapped variables of [`super::free`] (the uncertainty at the solution: [`super::stats`]).
 
 use super::data::{Data, Row};
 use super::free::Free;
