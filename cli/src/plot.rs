@@ -59,30 +59,43 @@ fn finite_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 
 /// Draws the series as a line chart into `path` (.png or .svg).
 pub fn line_chart(path: &Path, chart: &Chart, series: &[Series]) -> anyhow::Result<()> {
+    data_and_lines_chart(path, chart, &[], series)
+}
+
+/// Draws `points` as markers and `lines` as lines into `path` (.png or .svg): the k-th series of each
+/// in the same colour (measurements and the model fitted to them), labelled once.
+pub fn data_and_lines_chart(
+    path: &Path,
+    chart: &Chart,
+    points: &[Series],
+    lines: &[Series],
+) -> anyhow::Result<()> {
     ensure_font();
     let svg = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
     if svg {
         let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
-        draw_lines(root, chart, series)
+        draw(root, chart, points, lines)
     } else {
         let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
-        draw_lines(root, chart, series)
+        draw(root, chart, points, lines)
     }
 }
 
-fn draw_lines<DB: DrawingBackend>(
+fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, plotters::coord::Shift>,
     chart: &Chart,
-    series: &[Series],
+    points: &[Series],
+    lines: &[Series],
 ) -> anyhow::Result<()>
 where
     DB::ErrorType: 'static,
 {
     root.fill(&WHITE).map_err(plot_err)?;
-    let (x0, x1) = finite_range(series.iter().flat_map(|s| s.points.iter().map(|p| p.0)));
-    let (y0, y1) = finite_range(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)));
+    let all = || points.iter().chain(lines).flat_map(|s| s.points.iter());
+    let (x0, x1) = finite_range(all().map(|p| p.0));
+    let (y0, y1) = finite_range(all().map(|p| p.1));
     let mut ctx = ChartBuilder::on(&root)
         .caption(chart.title, ("sans-serif", 22))
         .margin(15)
@@ -96,7 +109,17 @@ where
         .label_style(("sans-serif", 15))
         .draw()
         .map_err(plot_err)?;
-    for (k, s) in series.iter().enumerate() {
+    for (k, s) in points.iter().enumerate() {
+        let color = Palette99::pick(k).to_rgba();
+        ctx.draw_series(
+            s.points
+                .iter()
+                .filter(|p| p.0.is_finite() && p.1.is_finite())
+                .map(|&p| Circle::new(p, 4, color.filled())),
+        )
+        .map_err(plot_err)?;
+    }
+    for (k, s) in lines.iter().enumerate() {
         let color = Palette99::pick(k).to_rgba();
         ctx.draw_series(LineSeries::new(
             s.points.iter().cloned().filter(|p| p.1.is_finite()),
@@ -106,7 +129,7 @@ where
         .label(s.label.clone())
         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
     }
-    if series.len() > 1 || series.iter().any(|s| !s.label.is_empty()) {
+    if lines.len() > 1 || lines.iter().any(|s| !s.label.is_empty()) {
         ctx.configure_series_labels()
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)

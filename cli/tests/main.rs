@@ -2,6 +2,7 @@
 //! through the CLI (one binary).
 
 mod cli;
+mod fit;
 mod package;
 mod paper;
 mod table;

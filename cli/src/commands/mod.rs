@@ -2,6 +2,7 @@
 
 mod curve;
 mod fields;
+mod fit;
 mod parameters;
 mod plan;
 mod point;
@@ -37,6 +38,9 @@ enum Command {
     Reproduce(reproduce::ReproduceArgs),
     /// Build, merge, verify and describe lookup tables of the model (tabulation mode).
     Table(table::TableArgs),
+    /// Fit scalar parameters to measured traction–creepage curves (bounded least squares): writes
+    /// fitted.toml, report.json (values, standard errors, correlations, residuals) and fit.png.
+    Fit(fit::FitArgs),
     /// Print the specification of the parameters and operating-point inputs: keys, units, ranges,
     /// defaults, flags and FMU variables (as text, JSON or the Markdown of docs/parameters.md).
     Parameters(parameters::ParametersArgs),
@@ -388,13 +392,16 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Fields(a) => fields::run(&a),
         Command::Reproduce(a) => reproduce::run(&a),
         Command::Table(a) => table::run(&a),
+        Command::Fit(a) => fit::run(&a),
         Command::Parameters(a) => parameters::run(&a),
     }
 }
 
 /// Exit code of an error: 2 for invalid input (values, parameter files), 1 otherwise.
 pub fn exit_code(e: &anyhow::Error) -> u8 {
-    if e.downcast_ref::<plan::ContactsError>().is_some() {
+    if e.downcast_ref::<plan::ContactsError>().is_some()
+        || e.downcast_ref::<fit::FitInputError>().is_some()
+    {
         return 2;
     }
     match e.downcast_ref::<wheelrail::Error>() {

@@ -161,9 +161,18 @@ fn content(line: &str) -> &str {
     line.split('#').next().unwrap_or("").trim()
 }
 
+/// The lines of a CSV text that hold something, with their 1-based numbers, without comments: the first
+/// is the header.
+pub(super) fn csv_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, content(l)))
+        .filter(|(_, l)| !l.is_empty())
+}
+
 /// The cells of a line: split at commas, trimmed, and without the double quotes a spreadsheet may put
 /// around them.
-fn cells(line: &str) -> Vec<&str> {
+pub(super) fn cells(line: &str) -> Vec<&str> {
     line.split(',')
         .map(|c| c.trim().trim_matches('"').trim())
         .collect()
@@ -232,11 +241,7 @@ pub fn read_contacts(
         reason,
     };
     let text = std::fs::read_to_string(path).map_err(|e| err(None, e.to_string()))?;
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, content(l)))
-        .filter(|(_, l)| !l.is_empty());
+    let mut lines = csv_lines(&text);
     let (header_line, header) = lines
         .next()
         .ok_or_else(|| err(None, "no header line and no contacts".into()))?;

@@ -15,7 +15,7 @@ use wheelrail::{Error, Model, OperatingPoint};
 
 /// Standstill regularisation of `point` [m/s]: the smallest rolling speed the model accepts
 /// (`OperatingPoint::validate`), so that every speed it accepts is evaluated as given.
-const MINIMUM_SPEED: f64 = 1e-6;
+pub(super) const MINIMUM_SPEED: f64 = 1e-6;
 
 /// Evaluation modes on the command line.
 #[derive(Debug, Clone, Copy, ValueEnum)]
