@@ -334,6 +334,35 @@ impl Default for Fluid {
     }
 }
 
+/// The interfacial (third-body) layer between wheel and rail in the tangential problem (docs/model.md
+/// §6.7, an extension of the paper): a thin elastic layer whose shear adds h·τ/G₃ to the tangential
+/// displacement difference of the two bodies at each point.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Layer {
+    /// Layer thickness h [m]; 0: no layer (the half-spaces' contact of the paper).
+    pub thickness: f64,
+    /// Shear modulus of the layer G₃ [Pa].
+    pub shear_modulus: f64,
+}
+
+impl Default for Layer {
+    fn default() -> Self {
+        Self {
+            thickness: Param::LayerThickness.default_value(),
+            shear_modulus: Param::LayerShearModulus.default_value(),
+        }
+    }
+}
+
+impl Layer {
+    /// The layer's tangential compliance h/G₃ [m/Pa]: its shear displacement per unit traction
+    /// (docs/model.md §6.7); 0 without a layer.
+    pub fn compliance(&self) -> f64 {
+        self.thickness / self.shear_modulus
+    }
+}
+
 /// Discretisation of the contact ellipse (docs/model.md §2).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -475,8 +504,8 @@ impl Default for SolverParams {
     }
 }
 
-/// Whether a value is its type's default (the new keys `tangential` and `pressure` are written only when
-/// set, so that the parameters of earlier versions keep their text and their tables' fingerprints).
+/// Whether a value is its type's default (the new keys `tangential`, `pressure` and `layer` are written
+/// only when set, so that the parameters of earlier versions keep their text and their tables' fingerprints).
 fn is_default<T: Default + PartialEq>(x: &T) -> bool {
     *x == T::default()
 }
@@ -502,6 +531,10 @@ pub struct Params {
     pub friction: Friction,
     /// Interfacial fluid.
     pub fluid: Fluid,
+    /// The interfacial layer of the tangential problem (TOML `[layer]`; written only when not the
+    /// default, so that the parameters without a layer keep their text and table fingerprints).
+    #[serde(skip_serializing_if = "is_default")]
+    pub layer: Layer,
     /// Contact grid.
     pub grid: GridParams,
     /// Coupled solver controls.
