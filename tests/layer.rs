@@ -3,12 +3,13 @@
 //! layer, full slip unchanged, the two methods' reductions alike, grid convergence, and the layer reaching
 //! both tangential solvers of the full model.
 
+use crate::tangential::{converged, point};
+use wheelrail::Params;
 use wheelrail::contact::{ContactGrid, HertzContact};
 use wheelrail::params::{FrictionLaw, Layer, Tangential};
 use wheelrail::solver::normal_contact;
 use wheelrail::tangential::exact::{ExactSettings, SteadyRolling};
 use wheelrail::tangential::{Creepages, Flexibilities, fastsim, kalker_coefficients};
-use wheelrail::{OperatingPoint, Params, Solution, solve};
 
 /// Friction coefficient of the traction bound μ·p_n of the direct solves [-].
 const MU: f64 = 0.3;
@@ -54,13 +55,17 @@ impl Contact {
         Flexibilities::new(self.hertz.a, self.hertz.b, self.shear_modulus, &k)
     }
 
+    /// The traction bound μ·p_n [Pa] per cell of `grid` with the nominal pressure `pressure`.
+    fn bound(&self, grid: &ContactGrid, pressure: fn(&HertzContact, f64, f64) -> f64) -> Vec<f64> {
+        grid.cells
+            .iter()
+            .map(|c| MU * pressure(&self.hertz, c.x, c.y))
+            .collect()
+    }
+
     /// FASTSIM under μ·p_parabolic with a layer of compliance `layer` [m/Pa].
     fn fastsim(&self, grid: &ContactGrid, creep: Creepages, layer: f64) -> [f64; 3] {
-        let bound: Vec<f64> = grid
-            .cells
-            .iter()
-            .map(|c| MU * self.hertz.parabolic_pressure(c.x, c.y))
-            .collect();
+        let bound = self.bound(grid, HertzContact::parabolic_pressure);
         let flex = self.flexibilities().with_layer(layer);
         let f = fastsim(grid, creep, SPEED, &flex, &bound).unwrap();
         [f.force_x, f.force_y, f.spin_moment]
@@ -70,11 +75,7 @@ impl Contact {
     /// forces, moment and whether every cell slips.
     fn exact(&self, grid: &ContactGrid, creep: Creepages, layer: f64) -> ([f64; 3], bool) {
         let op = SteadyRolling::with_layer(grid, self.shear_modulus, self.poisson, layer).unwrap();
-        let bound: Vec<f64> = grid
-            .cells
-            .iter()
-            .map(|c| MU * self.hertz.hertz_pressure(c.x, c.y))
-            .collect();
+        let bound = self.bound(grid, HertzContact::hertz_pressure);
         let settings = ExactSettings {
             tolerance: 1e-10,
             max_sweeps: 5000,
@@ -212,14 +213,7 @@ fn full_slip_forces_are_unchanged_by_the_layer() {
     let layer = compliance(1e-3);
     let without = c.fastsim(&grid, xi(0.5), 0.0);
     let with = c.fastsim(&grid, xi(0.5), layer);
-    let limit: f64 = MU
-        * grid.integrate(
-            &grid
-                .cells
-                .iter()
-                .map(|k| c.hertz.parabolic_pressure(k.x, k.y))
-                .collect::<Vec<_>>(),
-        );
+    let limit = grid.integrate(&c.bound(&grid, HertzContact::parabolic_pressure));
     assert!(
         (with[0] + limit).abs() <= 1e-9 * limit,
         "{with:?} vs {limit}"
@@ -228,14 +222,7 @@ fn full_slip_forces_are_unchanged_by_the_layer() {
     let (without, slipping) = c.exact(&grid, xi(0.5), 0.0);
     let (with, slipping_with) = c.exact(&grid, xi(0.5), layer);
     assert!(slipping && slipping_with);
-    let limit: f64 = MU
-        * grid.integrate(
-            &grid
-                .cells
-                .iter()
-                .map(|k| c.hertz.hertz_pressure(k.x, k.y))
-                .collect::<Vec<_>>(),
-        );
+    let limit = grid.integrate(&c.bound(&grid, HertzContact::hertz_pressure));
     assert!(
         (with[0] + limit).abs() <= 1e-6 * limit,
         "{with:?} vs {limit}"
@@ -282,19 +269,6 @@ fn exact_solver_with_a_layer_converges_with_the_grid() {
     );
 }
 
-fn point(x: f64) -> OperatingPoint {
-    OperatingPoint {
-        creepage_x: x,
-        ..Default::default()
-    }
-}
-
-fn converged(params: &Params, pt: &OperatingPoint) -> Solution {
-    let s = solve(params, pt).unwrap();
-    assert!(s.report.converged, "{:?}", s.report);
-    s
-}
-
 /// The full model passes the layer to both tangential solvers: with constant μ and heat off (full stick
 /// at ξ = 1e-7) FASTSIM's force falls by exactly L1/(L1 + h/G₃) and the exact solver's is that of
 /// `SteadyRolling::with_layer` under μ·p_Hertz; with the Tomberger law and heat the linear slope falls
@@ -302,7 +276,7 @@ fn converged(params: &Params, pt: &OperatingPoint) -> Solution {
 #[test]
 fn the_layer_reaches_both_tangential_solvers_of_the_model() {
     let h = 400e-6;
-    let pt = point(1e-5);
+    let pt = point(1e-5, 0.0, 0.0);
     let c = contact();
     let ratio = {
         let l1 = c.flexibilities().l1;
@@ -324,7 +298,7 @@ fn the_layer_reaches_both_tangential_solvers_of_the_model() {
         p.friction.law = FrictionLaw::Constant;
         p.friction.mu = MU;
         p.solver.heat = false;
-        let s = converged(&p, &point(SMALL));
+        let s = converged(&p, &point(SMALL, 0.0, 0.0));
         let fields = s.fields.as_ref().unwrap();
         assert!(fields.slipping.iter().all(|x| !x));
         let grid = &fields.grid;

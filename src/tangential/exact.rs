@@ -6,7 +6,8 @@
 //! [`ContactGrid`]; quasi-identical bodies (wheel and rail of one steel), so the tangential problem
 //! decouples from the normal one. The surface displacement difference (wheel minus rail) at the centre of
 //! cell I is u_I = Σ_J A(x_I − x_J, y_I − y_J)·p_J with Cerruti's point-load solution integrated over the
-//! cell in closed form ([`influence`]).
+//! cell in closed form ([`influence`]). An interfacial layer of compliance h/G₃ between the bodies adds
+//! (h/G₃)·p_I to u_I (docs/model.md §6.7; [`SteadyRolling::with_layer`]).
 //!
 //! **Steady rolling.** Material flows through the contact in −x at the rolling speed V (leading edge at
 //! x = +a, as in FASTSIM). The slip of the wheel relative to the rail, per V, is
@@ -44,7 +45,8 @@ use crate::error::{Error, Result, check_finite, check_positive, check_range};
 use std::f64::consts::PI;
 
 /// Influence coefficients of one grid, per cell offset (a function of the grid's cell size, the number of
-/// cells and the elastic constants only: build once per grid and material, reuse for every creepage).
+/// cells, the elastic constants and an interfacial layer's compliance only: build once per grid and
+/// material, reuse for every creepage).
 #[derive(Debug, Clone)]
 pub struct SteadyRolling {
     nx: usize,
