@@ -830,6 +830,22 @@ mod tests {
         assert!(Params::from_toml_str("tangential = \"kalker\"\n").is_err());
     }
 
+    /// `[layer]` is written only when not the default, so that parameter sets without a layer keep their
+    /// text and table fingerprints; a set layer is written and read back, and its compliance is h/G₃.
+    #[test]
+    fn the_layer_is_written_only_when_set() {
+        let p = Params::default();
+        assert!(!p.to_toml_string().contains("layer"));
+        assert_eq!(p.layer.compliance(), 0.0);
+        let q = Params::from_toml_str("[layer]\nthickness = 4.1e-4\n").unwrap();
+        assert_eq!(q.layer.compliance(), 4.1e-4 / 8.2e9);
+        let text = q.to_toml_string();
+        assert!(text.contains("[layer]"), "{text}");
+        assert_eq!(Params::from_toml_str(&text).unwrap(), q);
+        assert!(Params::from_toml_str("[layer]\nthickness = -1e-4\n").is_err());
+        assert!(Params::from_toml_str("[layer]\nshear_modulus = 0\n").is_err());
+    }
+
     #[test]
     fn roughness_mapping_matches_model_md() {
         let r = Roughness::default();
