@@ -872,6 +872,75 @@ fn exact_mode_with_tangential_one_gives_the_librarys_exact_tangential_result() {
     );
 }
 
+/// The interfacial layer's parameters reach the model: in exact mode the outputs are the library's with
+/// the layer (a cold solve: bit for bit), whose linear slope is lower; the bundled table, built without a
+/// layer, refuses them in table-only mode and leaves them to the exact solver in auto mode.
+#[test]
+fn the_layer_parameters_reach_the_model_and_the_bundled_table_leaves_them_to_the_exact_solver() {
+    let (h, g3) = (4e-4, 6e9);
+    let pt = OperatingPoint {
+        creepage_x: 0.0005,
+        ..OperatingPoint::default()
+    };
+    let layered = |mode: i32| {
+        let f = Fmu::new("layer", None);
+        assert_eq!(f.set_bool("warm_start", false), OK);
+        assert_eq!(f.set_int("mode", mode), OK);
+        assert_eq!(f.set("layer_thickness", h), OK);
+        assert_eq!(f.set("layer_shear_modulus", g3), OK);
+        assert_eq!(f.set("creepage_longitudinal", pt.creepage_x), OK);
+        f
+    };
+    let f = layered(2);
+    assert_eq!(f.init(), OK, "{:?}", f.messages());
+    let got = f.forces();
+    let want = library_forces(
+        |p| {
+            p.layer.thickness = h;
+            p.layer.shear_modulus = g3;
+        },
+        pt,
+    );
+    assert!(close(got, want, 1e-12), "{got:?} vs {want:?}");
+    let without = library_forces(|_| {}, pt);
+    assert!(
+        got[0] > 0.8 * without[0] && got[0] < 0.0,
+        "{got:?} vs {without:?}"
+    );
+    // the bundled table's parameters (the default grid) with and without the layer: table only takes
+    // them without it and refuses them with it at initialization; auto solves exactly, with a warning
+    let table = CString::new(root().join("fmu/resources/table").to_str().unwrap()).unwrap();
+    let no_layer = wheelrail::params::Layer::default();
+    for (mode, layer, status) in [
+        (1, [no_layer.thickness, no_layer.shear_modulus], OK),
+        (1, [h, g3], ERROR),
+        (0, [h, g3], WARNING),
+    ] {
+        let f = layered(mode);
+        assert_eq!(f.set("layer_thickness", layer[0]), OK);
+        assert_eq!(f.set("layer_shear_modulus", layer[1]), OK);
+        assert_eq!(
+            unsafe { (fmi().set_string)(f.c, &vr("table_file"), 1, &table.as_ptr()) },
+            OK
+        );
+        assert_eq!(f.initialize(), status, "mode {mode}: {:?}", f.messages());
+        if layer[0] == 0.0 {
+            assert_eq!(f.step(0.0), OK);
+            assert_eq!(f.get_int("evaluation_mode"), 1);
+        } else if mode == 1 {
+            assert!(
+                f.last_error()
+                    .contains("parameters differ from those the lookup table"),
+                "{}",
+                f.last_error()
+            );
+        } else {
+            assert_eq!(f.step(0.0), OK);
+            assert_eq!(f.get_int("evaluation_mode"), 2);
+        }
+    }
+}
+
 #[test]
 fn table_only_mode_without_a_table_fails_at_initialization() {
     let dir = target_dir().join(format!("fmu-test-resources-{}", std::process::id()));

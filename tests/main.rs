@@ -5,5 +5,6 @@ mod architecture;
 mod fallback_grid;
 mod fluid;
 mod fmu;
+mod layer;
 mod solver;
 mod tangential;

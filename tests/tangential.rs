@@ -26,7 +26,8 @@ fn constant_mu() -> Params {
     p
 }
 
-fn point(xi: f64, eta: f64, phi: f64) -> OperatingPoint {
+/// The default operating point at creepages (ξ, η, φ).
+pub(crate) fn point(xi: f64, eta: f64, phi: f64) -> OperatingPoint {
     OperatingPoint {
         creepage_x: xi,
         creepage_y: eta,
@@ -35,7 +36,8 @@ fn point(xi: f64, eta: f64, phi: f64) -> OperatingPoint {
     }
 }
 
-fn converged(params: &Params, pt: &OperatingPoint) -> Solution {
+/// The solution of `params` at `pt`, which must have converged.
+pub(crate) fn converged(params: &Params, pt: &OperatingPoint) -> Solution {
     let s = solve(params, pt).unwrap();
     assert!(s.report.converged, "{:?}", s.report);
     s

@@ -334,6 +334,35 @@ impl Default for Fluid {
     }
 }
 
+/// The interfacial (third-body) layer between wheel and rail in the tangential problem (docs/model.md
+/// §6.7, an extension of the paper): a thin elastic layer whose shear adds h·τ/G₃ to the tangential
+/// displacement difference of the two bodies at each point.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Layer {
+    /// Layer thickness h [m]; 0: no layer (the half-spaces' contact of the paper).
+    pub thickness: f64,
+    /// Shear modulus of the layer G₃ [Pa].
+    pub shear_modulus: f64,
+}
+
+impl Default for Layer {
+    fn default() -> Self {
+        Self {
+            thickness: Param::LayerThickness.default_value(),
+            shear_modulus: Param::LayerShearModulus.default_value(),
+        }
+    }
+}
+
+impl Layer {
+    /// The layer's tangential compliance h/G₃ [m/Pa]: its shear displacement per unit traction
+    /// (docs/model.md §6.7); 0 without a layer.
+    pub fn compliance(&self) -> f64 {
+        self.thickness / self.shear_modulus
+    }
+}
+
 /// Discretisation of the contact ellipse (docs/model.md §2).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -475,8 +504,8 @@ impl Default for SolverParams {
     }
 }
 
-/// Whether a value is its type's default (the new keys `tangential` and `pressure` are written only when
-/// set, so that the parameters of earlier versions keep their text and their tables' fingerprints).
+/// Whether a value is its type's default (the new keys `tangential`, `pressure` and `layer` are written
+/// only when set, so that the parameters of earlier versions keep their text and their tables' fingerprints).
 fn is_default<T: Default + PartialEq>(x: &T) -> bool {
     *x == T::default()
 }
@@ -502,6 +531,10 @@ pub struct Params {
     pub friction: Friction,
     /// Interfacial fluid.
     pub fluid: Fluid,
+    /// The interfacial layer of the tangential problem (TOML `[layer]`; written only when not the
+    /// default, so that the parameters without a layer keep their text and table fingerprints).
+    #[serde(skip_serializing_if = "is_default")]
+    pub layer: Layer,
     /// Contact grid.
     pub grid: GridParams,
     /// Coupled solver controls.
@@ -795,6 +828,22 @@ mod tests {
             (Tangential::Fastsim, Pressure::Hertz)
         );
         assert!(Params::from_toml_str("tangential = \"kalker\"\n").is_err());
+    }
+
+    /// `[layer]` is written only when not the default, so that parameter sets without a layer keep their
+    /// text and table fingerprints; a set layer is written and read back, and its compliance is h/G₃.
+    #[test]
+    fn the_layer_is_written_only_when_set() {
+        let p = Params::default();
+        assert!(!p.to_toml_string().contains("layer"));
+        assert_eq!(p.layer.compliance(), 0.0);
+        let q = Params::from_toml_str("[layer]\nthickness = 4.1e-4\n").unwrap();
+        assert_eq!(q.layer.compliance(), 4.1e-4 / 8.2e9);
+        let text = q.to_toml_string();
+        assert!(text.contains("[layer]"), "{text}");
+        assert_eq!(Params::from_toml_str(&text).unwrap(), q);
+        assert!(Params::from_toml_str("[layer]\nthickness = -1e-4\n").is_err());
+        assert!(Params::from_toml_str("[layer]\nshear_modulus = 0\n").is_err());
     }
 
     #[test]

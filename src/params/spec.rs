@@ -607,6 +607,16 @@ spec_table! {
         cli: Some("h-bl"), fmu: None,
         "Fluid height h_bl over which k blends from k_dry to k_wet (docs/model.md §8)",
     }
+    LayerThickness: layer.thickness {
+        toml: "layer.thickness", unit: Metre, range: Range::closed(0.0, 1e-2), default: 0.0,
+        cli: Some("layer-thickness"), fmu: fmu("layer_thickness", 35),
+        "Thickness h of the interfacial (third-body) layer, whose shear h tau/G_3 adds to the tangential displacement; 0: no layer (docs/model.md §6.7)",
+    }
+    LayerShearModulus: layer.shear_modulus {
+        toml: "layer.shear_modulus", unit: Pascal, range: Range::closed(1e6, 1e12), default: 8.2e9,
+        cli: Some("layer-shear-modulus"), fmu: fmu("layer_shear_modulus", 36),
+        "Shear modulus G_3 of the interfacial layer (docs/model.md §6.7)",
+    }
     GridNx: grid.nx {
         toml: "grid.nx", unit: Cells, range: Range::closed(4.0, 400.0), default: 30.0,
         cli: None, fmu: None,

@@ -99,12 +99,12 @@ impl HeatKey {
     }
 }
 
-/// The inputs of a steady-rolling operator ([`SteadyRolling::new`]): the grid, the shear modulus and
-/// Poisson's ratio.
+/// The inputs of a steady-rolling operator ([`SteadyRolling::with_layer`]): the grid, the shear modulus,
+/// Poisson's ratio and the interfacial layer's compliance h/G₃.
 #[derive(Debug, PartialEq)]
 struct SteadyKey {
     grid: GridKey,
-    elastic: [u64; 2],
+    elastic: [u64; 3],
 }
 
 /// The entries, each with the inputs it was made from.
@@ -190,22 +190,26 @@ impl SetupCache {
         )
     }
 
-    /// [`SteadyRolling::new`] of `grid` for shear modulus `shear_modulus` [Pa] and Poisson's ratio
-    /// `poisson`.
+    /// [`SteadyRolling::with_layer`] of `grid` for shear modulus `shear_modulus` [Pa], Poisson's ratio
+    /// `poisson` and the interfacial layer's compliance `layer_compliance` = h/G₃ [m/Pa].
     pub(super) fn steady_rolling(
         &self,
         grid: &ContactGrid,
         shear_modulus: f64,
         poisson: f64,
+        layer_compliance: f64,
     ) -> Result<Arc<SteadyRolling>> {
         get_or_make(
             self,
             |e| &mut e.steady,
             SteadyKey {
                 grid: GridKey::new(grid),
-                elastic: bits([shear_modulus, poisson]),
+                elastic: bits([shear_modulus, poisson, layer_compliance]),
             },
-            || SteadyRolling::new(grid, shear_modulus, poisson).map(Arc::new),
+            || {
+                SteadyRolling::with_layer(grid, shear_modulus, poisson, layer_compliance)
+                    .map(Arc::new)
+            },
         )
     }
 

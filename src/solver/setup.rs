@@ -73,7 +73,7 @@ pub(super) struct Setup<'a> {
     pub hertz: HertzContact,
     /// Creepages (ξ, η, φ) of the point.
     pub creep: Creepages,
-    /// FASTSIM flexibilities of the contact.
+    /// FASTSIM flexibilities of the contact, with the interfacial layer's compliance (docs/model.md §6.7).
     pub flex: Flexibilities,
     /// The contact grid.
     pub grid: ContactGrid,
@@ -94,10 +94,10 @@ pub(super) struct Setup<'a> {
 
 impl<'a> Setup<'a> {
     /// The grid of the contact `hertz` with its nominal pressure ([`Params::pressure_shape`]), the flexibilities from the Kalker
-    /// coefficients and the shear modulus of `mat0` (the material at the bulk temperature), the heat model
-    /// at the surface speeds, the microcontact model of the roughness and, with the exact tangential
-    /// solver, its influence operator of the grid (G and ν of `mat0`), the last three from `cache` when it
-    /// holds them for these inputs.
+    /// coefficients and the shear modulus of `mat0` (the material at the bulk temperature) with the
+    /// interfacial layer's compliance, the heat model at the surface speeds, the microcontact model of
+    /// the roughness and, with the exact tangential solver, its influence operator of the grid (G and ν
+    /// of `mat0`, the layer), the last three from `cache` when it holds them for these inputs.
     pub fn new(
         params: &'a Params,
         point: &'a OperatingPoint,
@@ -109,7 +109,9 @@ impl<'a> Setup<'a> {
     ) -> Result<Self> {
         let [nx, ny] = params.grid.cells();
         let grid = ContactGrid::for_contact(&hertz, nx, ny);
-        let flex = Flexibilities::new(hertz.a, hertz.b, mat0.shear_modulus, kalker);
+        let layer = params.layer.compliance();
+        let flex =
+            Flexibilities::new(hertz.a, hertz.b, mat0.shear_modulus, kalker).with_layer(layer);
         let pressure = match params.pressure_shape() {
             Pressure::Hertz => HertzContact::hertz_pressure,
             Pressure::Parabolic | Pressure::Auto => HertzContact::parabolic_pressure,
@@ -129,7 +131,7 @@ impl<'a> Setup<'a> {
         let micro = cache.microcontact(&params.roughness)?;
         let steady = match params.tangential {
             Tangential::Exact => {
-                Some(cache.steady_rolling(&grid, mat0.shear_modulus, mat0.poisson)?)
+                Some(cache.steady_rolling(&grid, mat0.shear_modulus, mat0.poisson, layer)?)
             }
             Tangential::Fastsim => None,
         };

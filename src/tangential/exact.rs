@@ -6,7 +6,8 @@
 //! [`ContactGrid`]; quasi-identical bodies (wheel and rail of one steel), so the tangential problem
 //! decouples from the normal one. The surface displacement difference (wheel minus rail) at the centre of
 //! cell I is u_I = Σ_J A(x_I − x_J, y_I − y_J)·p_J with Cerruti's point-load solution integrated over the
-//! cell in closed form ([`influence`]).
+//! cell in closed form ([`influence`]). An interfacial layer of compliance h/G₃ between the bodies adds
+//! (h/G₃)·p_I to u_I (docs/model.md §6.7; [`SteadyRolling::with_layer`]).
 //!
 //! **Steady rolling.** Material flows through the contact in −x at the rolling speed V (leading edge at
 //! x = +a, as in FASTSIM). The slip of the wheel relative to the rail, per V, is
@@ -44,7 +45,8 @@ use crate::error::{Error, Result, check_finite, check_positive, check_range};
 use std::f64::consts::PI;
 
 /// Influence coefficients of one grid, per cell offset (a function of the grid's cell size, the number of
-/// cells and the elastic constants only: build once per grid and material, reuse for every creepage).
+/// cells, the elastic constants and an interfacial layer's compliance only: build once per grid and
+/// material, reuse for every creepage).
 #[derive(Debug, Clone)]
 pub struct SteadyRolling {
     nx: usize,
@@ -433,10 +435,31 @@ struct Pending {
 impl SteadyRolling {
     /// The influence tables of `grid` for two bodies of shear modulus G [Pa] and Poisson ratio ν
     /// (`shear_modulus`, `poisson`): A at every offset between cells, and to the cell behind each strip's
-    /// trailing cell, from [`influence`]; the same row's as values, the others as spectra over x.
+    /// trailing cell, from [`influence`]; the same row's as values, the others as spectra over x. Without
+    /// an interfacial layer ([`SteadyRolling::with_layer`] with compliance 0).
     pub fn new(grid: &ContactGrid, shear_modulus: f64, poisson: f64) -> Result<Self> {
+        Self::with_layer(grid, shear_modulus, poisson, 0.0)
+    }
+
+    /// [`SteadyRolling::new`] with an interfacial layer of compliance h/G₃ = `layer_compliance` [m/Pa]
+    /// between the bodies (docs/model.md §6.7): its shear h·τ/G₃ at a cell depends on that cell's traction
+    /// only, so A_xx and A_yy gain h/G₃ at offset zero (the cell on itself) and nothing else changes. 0:
+    /// the half-spaces alone, bit for bit.
+    pub fn with_layer(
+        grid: &ContactGrid,
+        shear_modulus: f64,
+        poisson: f64,
+        layer_compliance: f64,
+    ) -> Result<Self> {
         check_positive("shear modulus", shear_modulus, "Pa")?;
         check_range("Poisson ratio", poisson, 0.0, 0.5, "")?;
+        if !(layer_compliance.is_finite() && layer_compliance >= 0.0) {
+            return Err(Error::out_of_range(
+                "interfacial layer compliance h/G_3",
+                layer_compliance,
+                "finite, >= 0 m/Pa",
+            ));
+        }
         let (nx, ny, hx, hy) = (grid.nx, grid.ny, grid.hx, grid.hy);
         let rows = 2 * ny - 1;
         // A at every column offset d = i_t − c ∈ [−(nx − 1), nx] and row offset (as [`influence`], from the
@@ -448,12 +471,17 @@ impl SteadyRolling {
             })
             .collect();
         let at = |k: usize, l: usize| corners[k + (2 * nx + 1) * l];
-        // offset d at e = d + nx − 1
+        // offset d at e = d + nx − 1; the layer's compliance on the cell itself (row offset ny − 1, d = 0)
         let offsets = |r: usize, e: usize| {
-            rectangle(
+            let mut v = rectangle(
                 [at(e + 1, r + 1), at(e, r + 1), at(e + 1, r), at(e, r)],
                 shear_modulus,
-            )
+            );
+            if r == ny - 1 && e == nx - 1 {
+                v[0] += layer_compliance;
+                v[2] += layer_compliance;
+            }
+            v
         };
         let row =
             std::array::from_fn(|k| (0..2 * nx).map(|e| offsets(ny - 1, e)[k] / hx).collect());

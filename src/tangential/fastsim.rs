@@ -31,6 +31,19 @@ impl Flexibilities {
         }
     }
 
+    /// The flexibilities with an interfacial layer of compliance h/G₃ = `compliance` [m/Pa] in series
+    /// with the half-spaces' (docs/model.md §6.7): L_i' = L_i + h/G₃ for i = 1, 2, 3. The layer's shear
+    /// h·τ/G₃ is a local (Winkler) displacement, so it adds to the simplified theory's u = L·τ alike for
+    /// every traction component; for spin too, since it has no spin-specific part. 0: unchanged (bit for
+    /// bit).
+    pub fn with_layer(self, compliance: f64) -> Self {
+        Self {
+            l1: self.l1 + compliance,
+            l2: self.l2 + compliance,
+            l3: self.l3 + compliance,
+        }
+    }
+
     /// Combined flexibility L = (|ξ|·L1 + |η|·L2 + c·|φ|·L3)/sqrt(ξ² + η² + c²·φ²) [m/Pa] that converts the
     /// traction excess of a slipping cell into slip (docs/model.md §6); exact for a single creepage. Zero when
     /// all creepages vanish (no cell can slip then).

@@ -489,7 +489,7 @@ mod tests {
         [0.5, 1.5, 0.9, 1.01]
             .map(|f| s.default * f)
             .into_iter()
-            .chain([0.5, -0.5, 1.0, 0.05])
+            .chain([0.5, -0.5, 1.0, 0.05, 1e-4])
             .find(|&x| x != s.default && s.range.contains(x))
             .unwrap()
     }

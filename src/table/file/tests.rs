@@ -70,6 +70,22 @@ fn fingerprint_follows_every_parameter() {
     assert_ne!(fingerprint(&q), f0);
 }
 
+/// The interfacial layer is part of the fingerprint when set (thickness or G₃), and absent from it when
+/// not, so that a table built without a layer keeps its fingerprint and serves no parameters with one.
+#[test]
+fn fingerprint_follows_the_layer_only_when_set() {
+    let p = Params::default();
+    let json = serde_json::to_string(&p).unwrap();
+    assert!(!json.contains("layer"), "{json}");
+    let mut q = p.clone();
+    q.layer.thickness = 1e-4;
+    assert_ne!(fingerprint(&q), fingerprint(&p));
+    let mut r = p.clone();
+    r.layer.shear_modulus = 5e9;
+    assert_ne!(fingerprint(&r), fingerprint(&p));
+    assert_ne!(fingerprint(&r), fingerprint(&q));
+}
+
 #[test]
 fn parameters_round_trip_through_the_sidecar_json_bit_for_bit() {
     // the fingerprint of the parameters read back must equal the recorded one: every f64 must survive
