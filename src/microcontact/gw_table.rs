@@ -203,14 +203,41 @@ impl Stencil {
     /// `integrals`, bit for bit.
     #[inline]
     pub fn interpolant(&self, h: f64) -> Option<Interpolant> {
-        if !(H_MIN..H_ZERO).contains(&h) {
-            return None;
-        }
-        let x = (h - H_MIN) * (1.0 / H_STEP);
-        let j = x as usize;
-        let t = x - j as f64;
+        let (j, t) = locate(h)?;
+        Some(Interpolant {
+            y: self.rows(j),
+            basis: QuinticHermite::at(t),
+        })
+    }
+
+    /// As [`Self::interpolant`], taking the interval's nodes from `last` when h lies in the interval
+    /// `last` holds and keeping the nodes of h's interval there otherwise (the same values, bit for bit:
+    /// a root finder whose iterates stay in one interval interpolates its nodes in ln c once).
+    #[inline]
+    pub fn interpolant_reusing(
+        &self,
+        h: f64,
+        last: &mut Option<IntervalNodes>,
+    ) -> Option<Interpolant> {
+        let (j, t) = locate(h)?;
+        let y = match *last {
+            Some(n) if n.interval == j => n.y,
+            _ => {
+                let y = self.rows(j);
+                *last = Some(IntervalNodes { interval: j, y });
+                y
+            }
+        };
+        Some(Interpolant {
+            y,
+            basis: QuinticHermite::at(t),
+        })
+    }
+
+    /// The nodes of rows j and j + 1 of the h grid interpolated in ln c (Lagrange, ORDER points).
+    #[inline]
+    fn rows(&self, j: usize) -> [f64; 12] {
         let (b, r) = (j / BLOCK_INTERVALS, j % BLOCK_INTERVALS);
-        // the nodes of rows j and j + 1 interpolated in ln c
         let mut y = [0.0; 12];
         for (m, w) in self.weights.iter().enumerate() {
             let block = self.table.block(self.first + m, b);
@@ -220,11 +247,27 @@ impl Stencil {
                 y[6 + q] += w * n1[q];
             }
         }
-        Some(Interpolant {
-            y,
-            basis: QuinticHermite::at(t),
-        })
+        y
     }
+}
+
+/// The interval j of the h grid holding h (rows h_j ≤ h < h_{j+1}) and the position t ∈ [0, 1) in it;
+/// None outside H_MIN ≤ h < H_ZERO (or h not finite).
+#[inline]
+fn locate(h: f64) -> Option<(usize, f64)> {
+    if !(H_MIN..H_ZERO).contains(&h) {
+        return None;
+    }
+    let x = (h - H_MIN) * (1.0 / H_STEP);
+    let j = x as usize;
+    Some((j, x - j as f64))
+}
+
+/// The nodes of one interval of the h grid interpolated in ln c ([`Stencil::interpolant_reusing`]).
+#[derive(Debug, Clone, Copy)]
+pub struct IntervalNodes {
+    interval: usize,
+    y: [f64; 12],
 }
 
 /// The integrals' logarithms and their h-derivatives interpolated in ln c at both ends of one grid
@@ -241,6 +284,13 @@ impl Interpolant {
     #[inline]
     pub fn load(&self) -> (f64, f64) {
         self.basis.exp_of(&self.y[0..3], &self.y[6..9])
+    }
+
+    /// ln 𝒫 and d(ln 𝒫)/dh (what [`Self::load`] exponentiates; no exponential taken).
+    #[inline]
+    pub fn ln_load(&self) -> (f64, f64) {
+        let (ln, dln) = self.basis.ln_of(&self.y[0..3], &self.y[6..9]);
+        (ln, dln / H_STEP)
     }
 
     /// 𝒜 and d𝒜/dh.
@@ -285,6 +335,14 @@ impl QuinticHermite {
     /// exp(L) and d exp(L)/dh for L interpolated from (L, L', L'') at both ends of the interval.
     #[inline]
     fn exp_of(&self, y0: &[f64], y1: &[f64]) -> (f64, f64) {
+        let (ln, dln) = self.ln_of(y0, y1);
+        let f = ln.exp();
+        (f, f * dln / H_STEP)
+    }
+
+    /// L and H_STEP·dL/dh interpolated from (L, L', L'') at both ends of the interval.
+    #[inline]
+    fn ln_of(&self, y0: &[f64], y1: &[f64]) -> (f64, f64) {
         let coef = [
             y1[0] - y0[0],
             H_STEP * y0[1],
@@ -298,8 +356,7 @@ impl QuinticHermite {
             ln += c * v;
             dln += c * s;
         }
-        let f = ln.exp();
-        (f, f * dln / H_STEP)
+        (ln, dln)
     }
 }
 

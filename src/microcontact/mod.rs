@@ -20,7 +20,7 @@ use crate::error::{Error, Result, Stage, check_finite, check_positive, check_ran
 use crate::materials::MaterialState;
 use crate::params::{Param, Roughness};
 use gw::{Integrals, Law, PLASTIC_RATIO, Scheme};
-use gw_table::{GwTable, Interpolant, Stencil};
+use gw_table::{GwTable, Interpolant, IntervalNodes, Stencil};
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
@@ -239,10 +239,38 @@ impl Integrator<'_> {
         }
     }
 
+    /// ln 𝒫 and d(ln 𝒫)/dh at h = d/z_s, with the evaluation there ([`Self::load_state_of`]): no
+    /// exponential or logarithm when tabulated, the nodes of h's interval kept in `nodes` for the next
+    /// call (the root finding of [`Microcontact::separation_for_load`] works on ln(load)). Where 𝒫 = 0
+    /// (beyond the asperities' reach): ln 𝒫 = −∞ and a NaN derivative.
+    #[inline]
+    fn ln_load(&self, h: f64, nodes: &mut Option<IntervalNodes>) -> (f64, f64, Evaluation) {
+        match self.stencil.and_then(|s| s.interpolant_reusing(h, nodes)) {
+            Some(i) => {
+                let (ln, dln) = i.ln_load();
+                (ln, dln, Evaluation::Table(i))
+            }
+            None => {
+                let q = self.scheme.integrals(h, &Law::new(self.c, self.k));
+                let (ln, dln) = if q.load > 0.0 {
+                    (q.load.ln(), q.dload / q.load)
+                } else {
+                    (f64::NEG_INFINITY, f64::NAN)
+                };
+                (ln, dln, Evaluation::Direct(q))
+            }
+        }
+    }
+
     /// The load and its derivative at separation `d` [m] (those of [`Self::state`]).
     #[inline]
     fn load_state(&self, d: f64) -> LoadState {
-        let evaluation = self.evaluation(d / self.z_s);
+        self.load_state_of(d, self.evaluation(d / self.z_s))
+    }
+
+    /// The load state at separation `d` [m] of the evaluation at h = d/z_s.
+    #[inline]
+    fn load_state_of(&self, d: f64, evaluation: Evaluation) -> LoadState {
         let (load, dload) = evaluation.load();
         LoadState {
             separation: d,
@@ -367,7 +395,8 @@ impl Microcontact {
         let scale = integrator.load_scale;
         let below_floor = load < LOAD_FLOOR * scale;
         let target = load.max(LOAD_FLOOR * scale);
-        let ln_target = target.ln();
+        // Newton on the log-load residual r = ln(L0·𝒫(h)) − ln(target) = ln 𝒫(h) − ln(target/L0)
+        let ln_relative_target = (target / scale).ln();
         let (mut lo, mut hi) = SEPARATION_RANGE;
         let mut lo_checked = false;
         let mut h = if guess.is_finite() {
@@ -376,22 +405,18 @@ impl Microcontact {
             initial_guess(target / scale)
         };
         let mut iterations = 0;
+        let mut nodes = None;
         loop {
             iterations += 1;
-            let state = integrator.load_state(h * z_s);
-            let r = if state.load > 0.0 {
-                state.load.ln() - ln_target
-            } else {
-                f64::NEG_INFINITY
-            };
+            let (ln_p, slope, evaluation) = integrator.ln_load(h, &mut nodes);
+            let r = ln_p - ln_relative_target;
             if r > 0.0 {
                 lo = h;
                 lo_checked = true;
             } else {
                 hi = h;
             }
-            // Newton step on ln(load): Δh = −r·load/(dload/dh)
-            let slope = state.d_load_d_separation * z_s / state.load;
+            // Newton step on ln(load): Δh = −r/(d ln 𝒫/dh)
             let mut step = if r.is_finite() && slope < 0.0 {
                 -r / slope
             } else {
@@ -403,7 +428,7 @@ impl Microcontact {
             // evaluated again (one evaluation saved per solve, and a warm start that is already within
             // 1e-7 costs a single evaluation)
             if !converged && r.abs() <= TERMINAL_RESIDUAL && h + step > lo && h + step < hi {
-                let mut state = integrator.complete(&state);
+                let mut state = integrator.complete(&integrator.load_state_of(h * z_s, evaluation));
                 let dd = step * z_s;
                 state.separation += dd;
                 state.load += state.d_load_d_separation * dd;
@@ -418,7 +443,7 @@ impl Microcontact {
                 });
             }
             if converged || iterations >= MAX_ITERATIONS {
-                let state = integrator.complete(&state);
+                let state = integrator.complete(&integrator.load_state_of(h * z_s, evaluation));
                 let residual = (state.load - target).abs() / target;
                 return Ok(SeparationSolve {
                     state,
