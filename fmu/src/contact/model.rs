@@ -396,30 +396,63 @@ fn evaluation_mode(by: &Evaluated, evaluator: &Evaluator) -> i32 {
 
 impl WheelRailModel {
     /// The library's parameter set from the parameters (defaults for everything the FMU does not expose).
+    /// With a `parameter_file`, the file's values replace the defaults (every key, those without an FMU
+    /// variable too); a parameter variable away from its start value overrides them, and is an error
+    /// where the file sets that key to a third value (two sources naming different values).
     fn params(values: &Values) -> Result<Params, String> {
-        let mut p = Params::default();
+        let file = values.string(PARAMETER_FILE);
+        let defaults = Params::default();
+        let mut p = if file.is_empty() {
+            defaults.clone()
+        } else {
+            Params::from_toml_file(Path::new(file))
+                .map_err(|e| format!("parameter_file {file}: {e}"))?
+        };
+        // a variable at its start value leaves the file's value; one away from it overrides the file
+        // unless the file names a third value
+        let take = |name: &str, file_value: f64, default: f64, value: f64| {
+            let differs = |a: f64, b: f64| a.to_bits() != b.to_bits();
+            if !differs(value, default) {
+                Ok(false)
+            } else if differs(file_value, default) && differs(file_value, value) {
+                Err(format!(
+                    "{name} = {value} differs from parameter_file {file}'s {file_value}: set one of them"
+                ))
+            } else {
+                Ok(true)
+            }
+        };
         for (param, i) in EXPOSED_PARAMETERS {
-            p.set(param, values.real(i));
+            let value = values.real(i);
+            if take(VARIABLES[i].name, p.get(param), defaults.get(param), value)? {
+                p.set(param, value);
+            }
         }
-        // grid_size 0 (automatic) keeps the library's default grid; a negative one is mapped to 1, which
-        // the validation rejects by name
+        // grid_size 0 (automatic) keeps the file's or the library's default grid; a negative one is mapped
+        // to 1, which the validation rejects by name
         match values.integer(GRID_SIZE) {
             AUTOMATIC_GRID_SIZE => {}
             n => {
                 let n = usize::try_from(n).unwrap_or(1);
+                let [nx, ny] = [p.grid.nx, p.grid.ny];
+                if [nx, ny] != [defaults.grid.nx, defaults.grid.ny] && [nx, ny] != [n, n] {
+                    return Err(format!(
+                        "grid_size = {n} differs from parameter_file {file}'s grid {nx} x {ny}: set one of them"
+                    ));
+                }
                 p.grid.nx = n;
                 p.grid.ny = n;
             }
         }
-        p.tangential = match values.integer(TANGENTIAL) {
-            0 => Tangential::Fastsim,
-            1 => Tangential::Exact,
+        match values.integer(TANGENTIAL) {
+            0 => {}
+            1 => p.tangential = Tangential::Exact,
             other => {
                 return Err(format!(
                     "invalid value for tangential: {other} (allowed: 0 fastsim, 1 exact)"
                 ));
             }
-        };
+        }
         p.validate().map_err(|e| translate(e, values))?;
         Ok(p)
     }
@@ -562,7 +595,7 @@ impl WheelRailModel {
 }
 
 /// The bit patterns of the parameter values and of `grid_size`.
-type ParamKey = [u64; EXPOSED_PARAMETERS.len() + 2];
+type ParamKey = ([u64; EXPOSED_PARAMETERS.len() + 2], String);
 
 /// The key of the parameter-set cache ([`Setup`]): the values [`WheelRailModel::params`] reads.
 fn param_key(values: &Values) -> ParamKey {
@@ -572,7 +605,7 @@ fn param_key(values: &Values) -> ParamKey {
     }
     key[EXPOSED_PARAMETERS.len()] = u64::from(values.integer(GRID_SIZE) as u32);
     key[EXPOSED_PARAMETERS.len() + 1] = u64::from(values.integer(TANGENTIAL) as u32);
-    key
+    (key, values.string(PARAMETER_FILE).to_string())
 }
 
 /// Writes an evaluation's outputs: the six of the table, the contact ellipse and peak pressure, the
@@ -984,6 +1017,94 @@ mod tests {
             .into_iter()
             .find(|&x| s.range.contains(x))
             .unwrap()
+    }
+
+    /// `parameter_file`: the file's values replace the defaults, those of keys without an FMU variable
+    /// too (the model solved is the library's with the file's parameters, bit for bit); a variable at its
+    /// start value leaves the file's value, one away from it overrides a key the file leaves at its
+    /// default and is an error against a third value; a missing or bad file is an error naming it.
+    #[test]
+    fn a_parameter_file_sets_the_parameters_and_conflicts_are_errors() {
+        let dir = std::env::temp_dir().join(format!("wheelrail-pfile-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("fitted.toml");
+        // yield_span has no FMU variable; k_r has one
+        let mut fitted = Params::default();
+        fitted.set(Param::YieldSpan, 0.8 * Param::YieldSpan.default_value());
+        fitted.set(Param::RoughnessKr, 0.7 * Param::RoughnessKr.default_value());
+        std::fs::write(&file, fitted.to_toml_string()).unwrap();
+        assert!(Param::YieldSpan.spec().fmu.is_none() && Param::RoughnessKr.spec().fmu.is_some());
+
+        let mut v = Values::start(&VARIABLES);
+        v.set(PARAMETER_FILE, Value::String(file.display().to_string()));
+        let got = WheelRailModel::params(&v).unwrap();
+        assert_eq!(got, fitted);
+        // the solve is the library's with the file's parameters
+        let (log, _) = capturing(false);
+        let mut e = exact();
+        e.set(PARAMETER_FILE, Value::String(file.display().to_string()));
+        e.set(GRID_SIZE, Value::Integer(6));
+        e.set(CREEPAGE_LONGITUDINAL, Value::Real(0.004));
+        WheelRailModel::new(None).calculate(&mut e, &log).unwrap();
+        let mut lib = fitted.clone();
+        lib.geometry = geometry(&e);
+        [lib.grid.nx, lib.grid.ny] = [6, 6];
+        let want = wheelrail::solve(&lib, &input(&e)).unwrap().global;
+        assert_eq!(e.real(FORCE_LONGITUDINAL).to_bits(), want.force_x.to_bits());
+
+        // a variable away from its start value overrides a key the file leaves at its default
+        let psi = off_default(Param::PsiB, [0.9, 1.1]);
+        v.set(PSI_B, Value::Real(psi));
+        assert_eq!(WheelRailModel::params(&v).unwrap().get(Param::PsiB), psi);
+        // the file's own value through the variable is no conflict; a third value is
+        let k_r = fitted.get(Param::RoughnessKr);
+        let kr_vr = Param::RoughnessKr.spec().fmu.unwrap().value_reference as usize;
+        v.set(kr_vr, Value::Real(k_r));
+        assert_eq!(
+            WheelRailModel::params(&v).unwrap().get(Param::RoughnessKr),
+            k_r
+        );
+        v.set(kr_vr, Value::Real(0.9 * k_r));
+        let err = WheelRailModel::params(&v).unwrap_err();
+        let name = VARIABLES[kr_vr].name;
+        assert!(
+            err.contains(name) && err.contains("parameter_file") && err.contains("fitted.toml"),
+            "{err}"
+        );
+        // grid_size against the file's grid
+        let mut gridded = Params::default();
+        [gridded.grid.nx, gridded.grid.ny] = [12, 12];
+        std::fs::write(&file, gridded.to_toml_string()).unwrap();
+        let mut g = Values::start(&VARIABLES);
+        g.set(PARAMETER_FILE, Value::String(file.display().to_string()));
+        assert_eq!(WheelRailModel::params(&g).unwrap().grid.nx, 12);
+        g.set(GRID_SIZE, Value::Integer(12));
+        assert_eq!(WheelRailModel::params(&g).unwrap().grid.ny, 12);
+        g.set(GRID_SIZE, Value::Integer(20));
+        let err = WheelRailModel::params(&g).unwrap_err();
+        assert!(
+            err.contains("grid_size = 20") && err.contains("12 x 12"),
+            "{err}"
+        );
+
+        // a missing file and a corrupt one
+        for (name, text) in [
+            ("missing.toml", None),
+            ("corrupt.toml", Some("[friction\nk_dry = ")),
+        ] {
+            let path = dir.join(name);
+            if let Some(t) = text {
+                std::fs::write(&path, t).unwrap();
+            }
+            let mut m = Values::start(&VARIABLES);
+            m.set(PARAMETER_FILE, Value::String(path.display().to_string()));
+            let err = WheelRailModel::params(&m).unwrap_err();
+            assert!(
+                err.starts_with("parameter_file ") && err.contains(name),
+                "{err}"
+            );
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -113,6 +113,8 @@ pub const PEAK_PRESSURE: usize = 31;
 pub const FRICTIONAL_POWER: usize = 32;
 /// `tangential`: the tangential solver, 0 FASTSIM, 1 Kalker's exact steady rolling.
 pub const TANGENTIAL: usize = 33;
+/// `parameter_file`: a parameter file (TOML, as every command of the `wheelrail` CLI reads; empty: none).
+pub const PARAMETER_FILE: usize = 37;
 
 /// Default of `minimum_speed`: below this |V| the contact is solved at this speed [m/s].
 pub const DEFAULT_MINIMUM_SPEED: f64 = wheelrail::model::DEFAULT_MINIMUM_SPEED;
@@ -332,7 +334,7 @@ const INPUT_VARIABLES: [Variable; 6] = [
 ];
 
 /// The FMU's own variables: the outputs, the parameters of its evaluation and the prescribed semi-axes.
-const OWN_VARIABLES: [Variable; 20] = [
+const OWN_VARIABLES: [Variable; 21] = [
     output(
         "force_longitudinal",
         FORCE_LONGITUDINAL,
@@ -472,6 +474,14 @@ const OWN_VARIABLES: [Variable; 20] = [
             max: Some(1),
         },
         description: "Tangential contact solver: 0 FASTSIM with the parabolic pressure, 1 Kalker's exact steady rolling with Hertz's pressure (docs/model.md 6.5, 6.6; slower). A lookup table serves only the method it was built with: otherwise mode 0 solves exactly (one warning) and mode 1 is an error",
+    },
+    Variable {
+        name: "parameter_file",
+        vr: PARAMETER_FILE as u32,
+        causality: Causality::Parameter,
+        variability: Variability::Fixed,
+        kind: Kind::String { start: Some("") },
+        description: "Parameter file (TOML, as the wheelrail CLI reads, e.g. the fitted.toml of wheelrail fit) whose values replace the defaults of every parameter, those without an FMU variable included; a parameter variable set away from its start value overrides the file, and one set to a value that differs from the file's too is an error; empty: no file",
     },
 ];
 
