@@ -294,8 +294,8 @@ fn fmu_parameters(params: &Params) -> Map<String, Value> {
     m
 }
 
-/// The keys of `params` away from their defaults that the FMU has no variable for (it uses the defaults
-/// there): scalar keys (the grid when it is not square), the friction law, the pressure, heating and
+/// The keys of `params` away from their defaults that the FMU has no variable for (they reach it only through
+/// `parameter_file`): scalar keys (the grid when it is not square), the friction law, the pressure, heating and
 /// prescribed semi-axes.
 fn not_in_fmu(params: &Params) -> Vec<&'static str> {
     let defaults = Params::default();
