@@ -214,6 +214,34 @@ fn recovers_the_wet_failure_stress_factor_of_flooded_curves() {
     );
 }
 
+/// A measured curve rising more slowly than Kalker's theory at small creepage: the interfacial layer's
+/// thickness (docs/model.md §6.7; the layer-free model cannot follow such a slope) is recovered, the fit
+/// starting without a layer (at the bound 0 of its range).
+#[test]
+fn recovers_the_interfacial_layer_of_a_slowly_rising_curve() {
+    let d = dir("layer");
+    let mut truth = coarse();
+    truth.layer.thickness = 3e-4;
+    let curves = [OperatingPoint {
+        speed: 20.0,
+        ..OperatingPoint::default()
+    }];
+    let xi = [0.0002, 0.0005, 0.001, 0.0015, 0.002, 0.003, 0.005, 0.01];
+    let (data, params) = synthetic(&d, &truth, &coarse(), &curves, &xi, (0.002, 5));
+    let (r, _) = fit(&data, &params, "layer.thickness", &[], &d.join("out"));
+    assert_eq!(r["converged"], true, "{r:#}");
+    let p = &r["parameters"]["layer.thickness"];
+    let (fitted, se) = (
+        p["value"].as_f64().unwrap(),
+        p["std_error"].as_f64().unwrap(),
+    );
+    assert_eq!(p["initial"], 0.0);
+    assert!(
+        (fitted - 3e-4).abs() < 2.0 * se && se < 0.1 * 3e-4,
+        "{fitted} ± {se}"
+    );
+}
+
 /// The standard errors are honest: over fits to the same curves with independent noise, the fitted values
 /// scatter by the standard errors the report gives, and about 95 % lie within two of them.
 #[test]
