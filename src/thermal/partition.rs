@@ -513,8 +513,8 @@ mod tests {
     }
 
     /// The solver's heat model with interpolated influence coefficients (docs/model.md §7.2, each within
-    /// 2e-6 of the coefficient scale) gives the partition and the temperature of the direct tables to a
-    /// few 1e-6 of their largest values, at speeds from near standstill to 100 m/s and on coarse and
+    /// 2e-5 of the coefficient scale) gives the partition and the temperature of the direct tables to
+    /// 1e-5 of their largest values, at speeds from near standstill to 100 m/s and on coarse and
     /// default grids.
     #[test]
     fn interpolated_heat_model_matches_the_direct_one() {
