@@ -26,7 +26,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::ptr::null_mut;
 
 /// The message of a caught panic.
-fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
+pub fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
     p.downcast_ref::<&str>()
         .map(|s| s.to_string())
         .or_else(|| p.downcast_ref::<String>().cloned())
@@ -90,7 +90,7 @@ pub unsafe fn call<M: Model>(
 ///
 /// # Safety
 /// A non-null `ptr` points to `n` valid elements that outlive the returned slice.
-unsafe fn slice<'a, T>(ptr: *const T, n: usize, what: &str) -> Result<&'a [T], Failure> {
+pub unsafe fn slice<'a, T>(ptr: *const T, n: usize, what: &str) -> Result<&'a [T], Failure> {
     if n == 0 {
         Ok(&[])
     } else if ptr.is_null() {
@@ -107,7 +107,7 @@ unsafe fn slice<'a, T>(ptr: *const T, n: usize, what: &str) -> Result<&'a [T], F
 ///
 /// # Safety
 /// As [`slice`], and nothing else accesses the array meanwhile.
-unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize, what: &str) -> Result<&'a mut [T], Failure> {
+pub unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize, what: &str) -> Result<&'a mut [T], Failure> {
     if n == 0 {
         Ok(&mut [])
     } else if ptr.is_null() {
@@ -124,7 +124,7 @@ unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize, what: &str) -> Result<&'a mut 
 ///
 /// # Safety
 /// A non-null `s` is NUL-terminated.
-unsafe fn text<'a>(s: *const c_char, what: &str) -> Result<&'a str, Failure> {
+pub unsafe fn text<'a>(s: *const c_char, what: &str) -> Result<&'a str, Failure> {
     if s.is_null() {
         return Err(Failure::Rejected(format!(
             "argument {what} is a null pointer"
@@ -137,7 +137,7 @@ unsafe fn text<'a>(s: *const c_char, what: &str) -> Result<&'a str, Failure> {
 }
 
 /// A non-null pointer for writing one result.
-fn out<'a, T>(ptr: *mut T, what: &str) -> Result<&'a mut T, Failure> {
+pub fn out<'a, T>(ptr: *mut T, what: &str) -> Result<&'a mut T, Failure> {
     // SAFETY: the importer passes a valid pointer or null; null is rejected.
     unsafe { ptr.as_mut() }
         .ok_or_else(|| Failure::Rejected(format!("argument {what} is a null pointer")))
@@ -419,10 +419,10 @@ pub unsafe fn get_fmu_state<M: Model>(
 /// Puts `s` into `*slot`: into the snapshot there if `*slot` is a live handle (`fmi2GetFMUstate` with a
 /// previous state), else into a new, registered snapshot (a null or foreign `*slot` is never written
 /// through).
-fn store_snapshot<S>(slot: &mut Fmi2FmuState, s: Snapshot<S>) {
-    let existing = *slot as *mut Snapshot<S>;
+pub fn store_snapshot<T>(slot: &mut Fmi2FmuState, s: T) {
+    let existing = *slot as *mut T;
     if handles::is_live(existing) {
-        // SAFETY: a live handle is a snapshot of type `S` allocated by this function and not yet freed.
+        // SAFETY: a live handle is a snapshot of type `T` allocated by this function and not yet freed.
         unsafe { *existing = s };
     } else {
         let new = Box::into_raw(Box::new(s));
