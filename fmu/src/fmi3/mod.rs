@@ -11,3 +11,6 @@ pub mod description;
 pub mod ffi;
 pub mod instance;
 pub mod state;
+
+#[cfg(test)]
+mod tests;
