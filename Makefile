@@ -34,9 +34,11 @@ examples:
 	$(CARGO) run --release -p wheelrail --example sweep
 	$(CARGO) run --release -p wheelrail --example table_lookup
 
-# regenerate modelDescription/modelDescription.xml from the variable table (a test checks it is current)
+# regenerate modelDescription/modelDescription.xml and modelDescription-fmi3.xml (FMI 3.0) from the variable
+# table (tests check they are current)
 model-description:
 	$(CARGO) run --release -p wheelrail-cli --bin package-fmu -- --model-description modelDescription/modelDescription.xml
+	$(CARGO) run --release -p wheelrail-cli --bin package-fmu -- --fmi3 --model-description modelDescription/modelDescription-fmi3.xml
 
 # regenerate docs/parameters.md from the parameter specification src/params/spec.rs (a test checks it is current)
 parameter-docs:

@@ -538,62 +538,35 @@ pub unsafe extern "C" fn fmi3DeserializeFMUState(
     unsafe { api::deserialize::<M>(c, bytes, size, s) }
 }
 
-/// `fmi3GetDirectionalDerivative`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
-    c: Fmi3Instance,
-    unknowns: *const Fmi3ValueReference,
-    n_unknowns: usize,
-    knowns: *const Fmi3ValueReference,
-    n_knowns: usize,
-    seed: *const f64,
-    n_seed: usize,
-    sensitivity: *mut f64,
-    n_sensitivity: usize,
-) -> Fmi3StatusC {
-    unsafe {
-        api::derivative::<M>(
-            c,
-            false,
-            unknowns,
-            n_unknowns,
-            knowns,
-            n_knowns,
-            seed,
-            n_seed,
-            sensitivity,
-            n_sensitivity,
-        )
-    }
+/// `fmi3GetDirectionalDerivative` (J·seed) and `fmi3GetAdjointDerivative` (Jᵀ·seed): one signature.
+macro_rules! derivative {
+    ($($name:ident, $adjoint:literal;)*) => {$(
+        #[doc = concat!("`", stringify!($name), "`.")]
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name(
+            c: Fmi3Instance,
+            unknowns: *const Fmi3ValueReference,
+            n_unknowns: usize,
+            knowns: *const Fmi3ValueReference,
+            n_knowns: usize,
+            seed: *const f64,
+            n_seed: usize,
+            sensitivity: *mut f64,
+            n_sensitivity: usize,
+        ) -> Fmi3StatusC {
+            unsafe {
+                api::derivative::<M>(
+                    c, $adjoint, unknowns, n_unknowns, knowns, n_knowns, seed, n_seed, sensitivity,
+                    n_sensitivity,
+                )
+            }
+        }
+    )*};
 }
 
-/// `fmi3GetAdjointDerivative`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi3GetAdjointDerivative(
-    c: Fmi3Instance,
-    unknowns: *const Fmi3ValueReference,
-    n_unknowns: usize,
-    knowns: *const Fmi3ValueReference,
-    n_knowns: usize,
-    seed: *const f64,
-    n_seed: usize,
-    sensitivity: *mut f64,
-    n_sensitivity: usize,
-) -> Fmi3StatusC {
-    unsafe {
-        api::derivative::<M>(
-            c,
-            true,
-            unknowns,
-            n_unknowns,
-            knowns,
-            n_knowns,
-            seed,
-            n_seed,
-            sensitivity,
-            n_sensitivity,
-        )
-    }
+derivative! {
+    fmi3GetDirectionalDerivative, false;
+    fmi3GetAdjointDerivative, true;
 }
 
 /// `fmi3EnterConfigurationMode` (from Instantiated: the structural parameter is fixed).
@@ -680,68 +653,23 @@ pub unsafe extern "C" fn fmi3SetTime(c: Fmi3Instance, time: f64) -> Fmi3StatusC 
     unsafe { api::simple::<M>(c, "fmi3SetTime", state::SET_TIME, |i| i.set_time(time)) }
 }
 
-/// `fmi3SetContinuousStates`: no states.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi3SetContinuousStates(
-    c: Fmi3Instance,
-    _x: *const f64,
-    n: usize,
-) -> Fmi3StatusC {
-    unsafe { api::no_states::<M>(c, "fmi3SetContinuousStates", state::CONTINUOUS_TIME, n) }
+/// The functions of continuous states and event indicators: there are none (only n = 0).
+macro_rules! no_states {
+    ($($name:ident, $ty:ty, $mask:ident;)*) => {$(
+        #[doc = concat!("`", stringify!($name), "`: no continuous states, no event indicators.")]
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name(c: Fmi3Instance, _values: $ty, n: usize) -> Fmi3StatusC {
+            unsafe { api::no_states::<M>(c, stringify!($name), state::$mask, n) }
+        }
+    )*};
 }
 
-/// `fmi3GetContinuousStateDerivatives`: no states.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi3GetContinuousStateDerivatives(
-    c: Fmi3Instance,
-    _dx: *mut f64,
-    n: usize,
-) -> Fmi3StatusC {
-    unsafe {
-        api::no_states::<M>(
-            c,
-            "fmi3GetContinuousStateDerivatives",
-            state::GET_CONTINUOUS,
-            n,
-        )
-    }
-}
-
-/// `fmi3GetEventIndicators`: none.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi3GetEventIndicators(
-    c: Fmi3Instance,
-    _z: *mut f64,
-    n: usize,
-) -> Fmi3StatusC {
-    unsafe { api::no_states::<M>(c, "fmi3GetEventIndicators", state::GET_CONTINUOUS, n) }
-}
-
-/// `fmi3GetContinuousStates`: no states.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi3GetContinuousStates(
-    c: Fmi3Instance,
-    _x: *mut f64,
-    n: usize,
-) -> Fmi3StatusC {
-    unsafe { api::no_states::<M>(c, "fmi3GetContinuousStates", state::GET_CONTINUOUS, n) }
-}
-
-/// `fmi3GetNominalsOfContinuousStates`: no states.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi3GetNominalsOfContinuousStates(
-    c: Fmi3Instance,
-    _x: *mut f64,
-    n: usize,
-) -> Fmi3StatusC {
-    unsafe {
-        api::no_states::<M>(
-            c,
-            "fmi3GetNominalsOfContinuousStates",
-            state::GET_CONTINUOUS,
-            n,
-        )
-    }
+no_states! {
+    fmi3SetContinuousStates, *const f64, CONTINUOUS_TIME;
+    fmi3GetContinuousStateDerivatives, *mut f64, GET_CONTINUOUS;
+    fmi3GetEventIndicators, *mut f64, GET_CONTINUOUS;
+    fmi3GetContinuousStates, *mut f64, GET_CONTINUOUS;
+    fmi3GetNominalsOfContinuousStates, *mut f64, GET_CONTINUOUS;
 }
 
 /// `fmi3GetNumberOfEventIndicators`: 0.

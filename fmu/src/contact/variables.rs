@@ -914,4 +914,13 @@ mod tests {
             "modelDescription/modelDescription.xml differs from the variable table: run `make model-description`"
         );
     }
+
+    #[test]
+    fn committed_fmi3_model_description_is_current() {
+        let committed = include_str!("../../../modelDescription/modelDescription-fmi3.xml");
+        assert!(
+            committed == crate::model_description_fmi3(),
+            "modelDescription/modelDescription-fmi3.xml differs from the variable table: run `make model-description`"
+        );
+    }
 }

@@ -19,14 +19,14 @@ use super::logging::{Logger, c_sink};
 use super::model::Model;
 use super::resources::path_from_uri;
 use super::snapshot::Snapshot;
-use super::state::{self, Interface, Mask};
+use super::state::{self, Interface, Mask, StateBit};
 use super::variables::{Type, Value};
 use std::ffi::{CStr, c_char, c_int};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::ptr::null_mut;
 
 /// The message of a caught panic.
-pub fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
+fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
     p.downcast_ref::<&str>()
         .map(|s| s.to_string())
         .or_else(|| p.downcast_ref::<String>().cloned())
@@ -48,38 +48,80 @@ pub unsafe fn call<M: Model>(
     let Some(inst) = (unsafe { (c as *mut Instance<M>).as_mut() }) else {
         return Status::Error as c_int;
     };
-    if !allowed.serves(inst.interface) {
-        inst.log.error(&format!(
+    guarded(inst, function, allowed, f)
+}
+
+/// What [`guarded`] needs of an instance (of this layer or of FMI 3.0's).
+pub trait Guarded {
+    /// The state-machine state.
+    type State: StateBit + std::fmt::Debug;
+    /// The interface type the instance was instantiated as.
+    fn interface(&self) -> Interface;
+    /// The current state.
+    fn state(&self) -> Self::State;
+    /// The instance's logger.
+    fn logger(&self) -> &Logger;
+    /// Enters the Error state (a computation failed).
+    fn enter_error(&mut self);
+}
+
+impl<M: Model> Guarded for Instance<M> {
+    type State = state::State;
+    fn interface(&self) -> Interface {
+        self.interface
+    }
+    fn state(&self) -> state::State {
+        self.state
+    }
+    fn logger(&self) -> &Logger {
+        &self.log
+    }
+    fn enter_error(&mut self) {
+        self.state = state::State::Error;
+    }
+}
+
+/// Runs `f` on `inst` if the function belongs to the instance's interface type and `allowed` contains its
+/// state (else "Illegal call sequence"), inside `catch_unwind`; logs a failure, and enters the Error state
+/// on a failed computation or a panic. The status as a C int.
+pub fn guarded<I: Guarded>(
+    inst: &mut I,
+    function: &str,
+    allowed: Mask,
+    f: impl FnOnce(&mut I) -> Outcome,
+) -> c_int {
+    if !allowed.serves(inst.interface()) {
+        inst.logger().error(&format!(
             "{function}: Illegal call sequence (not a function of {}, the interface type this instance was \
              instantiated as)",
-            inst.interface.name()
+            inst.interface().name()
         ));
         return Status::Error as c_int;
     }
-    if !allowed.allows(inst.state) {
-        inst.log.error(&format!(
+    if !allowed.allows(inst.state()) {
+        inst.logger().error(&format!(
             "{function}: Illegal call sequence (the instance is in state {:?})",
-            inst.state
+            inst.state()
         ));
         return Status::Error as c_int;
     }
     let status = match catch_unwind(AssertUnwindSafe(|| f(inst))) {
         Ok(Ok(status)) => status,
         Ok(Err(Failure::Rejected(msg))) => {
-            inst.log.error(&format!("{function}: {msg}"));
+            inst.logger().error(&format!("{function}: {msg}"));
             Status::Error
         }
         Ok(Err(Failure::Failed(msg))) => {
-            inst.log.error(&format!("{function}: {msg}"));
-            inst.state = state::State::Error;
+            inst.logger().error(&format!("{function}: {msg}"));
+            inst.enter_error();
             Status::Error
         }
         Err(p) => {
-            inst.log.error(&format!(
+            inst.logger().error(&format!(
                 "{function}: internal error (panic: {})",
                 panic_message(&*p)
             ));
-            inst.state = state::State::Error;
+            inst.enter_error();
             Status::Error
         }
     };
@@ -136,7 +178,9 @@ pub unsafe fn text<'a>(s: *const c_char, what: &str) -> Result<&'a str, Failure>
         .map_err(|_| Failure::Rejected(format!("argument {what} is not valid UTF-8")))
 }
 
-/// A non-null pointer for writing one result.
+/// A non-null pointer for writing one result (the importer passes a valid pointer or null, as FMI
+/// requires of every output argument).
+#[allow(clippy::not_unsafe_ptr_arg_deref)]
 pub fn out<'a, T>(ptr: *mut T, what: &str) -> Result<&'a mut T, Failure> {
     // SAFETY: the importer passes a valid pointer or null; null is rejected.
     unsafe { ptr.as_mut() }

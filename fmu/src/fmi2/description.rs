@@ -129,6 +129,28 @@ pub fn unit_definitions(x: &mut String, info: &ModelInfo) {
     let _ = writeln!(x, "  </UnitDefinitions>");
 }
 
+/// `<LogCategories>` and `<DefaultExperiment>` (the same elements in FMI 2.0 and 3.0); `statuses` names the
+/// status values in the categories' descriptions (`fmi2`: fmi2Warning, `fmi3`: fmi3Warning).
+pub fn categories_and_experiment(x: &mut String, info: &ModelInfo, statuses: &str) {
+    let _ = writeln!(x, "  <LogCategories>");
+    for (name, description) in CATEGORIES {
+        let _ = writeln!(
+            x,
+            "    <Category name=\"{name}\" description=\"{}\"/>",
+            esc(&description.replace("fmi2", statuses))
+        );
+    }
+    let _ = writeln!(x, "  </LogCategories>");
+    let e = info.default_experiment;
+    let _ = writeln!(
+        x,
+        "  <DefaultExperiment startTime=\"{}\" stopTime=\"{}\" stepSize=\"{}\"/>",
+        real(e.start_time),
+        real(e.stop_time),
+        real(e.step_size)
+    );
+}
+
 /// The document with `guid` in the `guid` attribute.
 fn document(info: &ModelInfo, guid: &str) -> String {
     let mut x = String::new();
@@ -165,23 +187,7 @@ fn document(info: &ModelInfo, guid: &str) -> String {
         esc(info.model_identifier)
     );
     unit_definitions(&mut x, info);
-    let _ = writeln!(x, "  <LogCategories>");
-    for (name, description) in CATEGORIES {
-        let _ = writeln!(
-            x,
-            "    <Category name=\"{name}\" description=\"{}\"/>",
-            esc(description)
-        );
-    }
-    let _ = writeln!(x, "  </LogCategories>");
-    let e = info.default_experiment;
-    let _ = writeln!(
-        x,
-        "  <DefaultExperiment startTime=\"{}\" stopTime=\"{}\" stepSize=\"{}\"/>",
-        real(e.start_time),
-        real(e.stop_time),
-        real(e.step_size)
-    );
+    categories_and_experiment(&mut x, info, "fmi2");
     let _ = writeln!(x, "  <ModelVariables>");
     for (i, v) in info.variables.iter().enumerate() {
         let _ = writeln!(x, "    <!-- index {} -->", i + 1);

@@ -93,21 +93,65 @@ pub fn put_values(out: &mut Vec<u8>, values: &Values) {
     }
 }
 
+/// The start of a serialized FMU state: `magic`, `version` u32, the model's identity `id` (u32 length +
+/// UTF-8).
+pub fn begin(magic: &[u8; 8], version: u32, id: &str) -> Vec<u8> {
+    let mut out = Vec::with_capacity(256);
+    out.extend_from_slice(magic);
+    out.extend_from_slice(&version.to_le_bytes());
+    put_str(&mut out, id);
+    out
+}
+
+/// A serialized FMU state begun by [`begin`], finished with the FNV-1a 64 checksum of its bytes (u64).
+pub fn seal(mut out: Vec<u8>) -> Vec<u8> {
+    let sum = fnv1a64(&out);
+    out.extend_from_slice(&sum.to_le_bytes());
+    out
+}
+
+/// A reader of the fields after the identity of a serialized FMU state, once its header (`magic`), checksum,
+/// format `version` and identity (`id`, named `id_name` in the message) are checked.
+pub fn open<'a>(
+    bytes: &'a [u8],
+    magic: &[u8; 8],
+    version: u32,
+    id: &str,
+    id_name: &str,
+) -> Result<Reader<'a>, String> {
+    if bytes.len() < magic.len() + 8 || &bytes[..magic.len()] != magic {
+        return Err("not a serialized FMU state of this FMU (bad header)".into());
+    }
+    let (body, sum) = bytes.split_at(bytes.len() - 8);
+    if fnv1a64(body).to_le_bytes() != sum {
+        return Err("serialized FMU state is corrupt (checksum mismatch)".into());
+    }
+    let mut r = Reader::new(&body[magic.len()..]);
+    let theirs = r.u32()?;
+    if theirs != version {
+        return Err(format!(
+            "serialized FMU state has format version {theirs}, expected {version}"
+        ));
+    }
+    let their_id = r.string()?;
+    if their_id != id {
+        return Err(format!(
+            "serialized FMU state belongs to another FMU ({id_name} {their_id})"
+        ));
+    }
+    Ok(r)
+}
+
 impl<S: ModelState> Snapshot<S> {
     /// The serialized bytes; `guid` identifies the model.
     pub fn to_bytes(&self, guid: &str) -> Vec<u8> {
-        let mut out = Vec::with_capacity(256);
-        out.extend_from_slice(MAGIC);
-        out.extend_from_slice(&VERSION.to_le_bytes());
-        put_str(&mut out, guid);
+        let mut out = begin(MAGIC, VERSION, guid);
         out.extend_from_slice(&(self.state as u16).to_le_bytes());
         out.extend_from_slice(&self.time.to_le_bytes());
         out.push(u8::from(self.stale));
         put_values(&mut out, &self.values);
         self.model.write(&mut out);
-        let sum = fnv1a64(&out);
-        out.extend_from_slice(&sum.to_le_bytes());
-        out
+        seal(out)
     }
 
     /// Reads serialized bytes written by [`Snapshot::to_bytes`] for the same model.
@@ -116,26 +160,7 @@ impl<S: ModelState> Snapshot<S> {
         guid: &str,
         table: &'static [Variable],
     ) -> Result<Snapshot<S>, String> {
-        if bytes.len() < MAGIC.len() + 8 || &bytes[..MAGIC.len()] != MAGIC {
-            return Err("not a serialized FMU state of this FMU (bad header)".into());
-        }
-        let (body, sum) = bytes.split_at(bytes.len() - 8);
-        if fnv1a64(body).to_le_bytes() != sum {
-            return Err("serialized FMU state is corrupt (checksum mismatch)".into());
-        }
-        let mut r = Reader::new(&body[MAGIC.len()..]);
-        let version = u32::from_le_bytes(r.array()?);
-        if version != VERSION {
-            return Err(format!(
-                "serialized FMU state has format version {version}, expected {VERSION}"
-            ));
-        }
-        let their_guid = r.string()?;
-        if their_guid != guid {
-            return Err(format!(
-                "serialized FMU state belongs to another FMU (GUID {their_guid})"
-            ));
-        }
+        let mut r = open(bytes, MAGIC, VERSION, guid, "GUID")?;
         let code = u16::from_le_bytes(r.array()?);
         let state = State::ALL
             .into_iter()

@@ -14,7 +14,7 @@ use super::description;
 use super::ffi::*;
 use super::instance::{Instance, Snapshot};
 use super::state::{self, Interface, Mask, State};
-use crate::fmi2::api::{out, panic_message, slice, slice_mut, store_snapshot, text};
+use crate::fmi2::api::{Guarded, guarded, out, slice, slice_mut, store_snapshot, text};
 use crate::fmi2::ffi::Status;
 use crate::fmi2::handles;
 use crate::fmi2::instance::{Failure, Outcome};
@@ -67,42 +67,23 @@ pub unsafe fn call<M: ArrayModel>(
     let Some(inst) = (unsafe { (c as *mut Instance<M>).as_mut() }) else {
         return Status::Error as c_int;
     };
-    if !allowed.serves(inst.interface) {
-        inst.log.error(&format!(
-            "{function}: Illegal call sequence (not a function of {}, the interface type this instance was \
-             instantiated as)",
-            inst.interface.name()
-        ));
-        return Status::Error as c_int;
+    guarded(inst, function, allowed, f)
+}
+
+impl<M: ArrayModel> Guarded for Instance<M> {
+    type State = State;
+    fn interface(&self) -> Interface {
+        self.interface
     }
-    if !allowed.allows(inst.state) {
-        inst.log.error(&format!(
-            "{function}: Illegal call sequence (the instance is in state {:?})",
-            inst.state
-        ));
-        return Status::Error as c_int;
+    fn state(&self) -> State {
+        self.state
     }
-    let status = match catch_unwind(AssertUnwindSafe(|| f(inst))) {
-        Ok(Ok(status)) => status,
-        Ok(Err(Failure::Rejected(msg))) => {
-            inst.log.error(&format!("{function}: {msg}"));
-            Status::Error
-        }
-        Ok(Err(Failure::Failed(msg))) => {
-            inst.log.error(&format!("{function}: {msg}"));
-            inst.state = State::Error;
-            Status::Error
-        }
-        Err(p) => {
-            inst.log.error(&format!(
-                "{function}: internal error (panic: {})",
-                panic_message(&*p)
-            ));
-            inst.state = State::Error;
-            Status::Error
-        }
-    };
-    status as c_int
+    fn logger(&self) -> &Logger {
+        &self.log
+    }
+    fn enter_error(&mut self) {
+        self.state = State::Error;
+    }
 }
 
 /// What an instantiate function was given.
@@ -238,6 +219,7 @@ pub unsafe fn simple<M: ArrayModel>(
 ///
 /// # Safety
 /// See the module documentation.
+#[allow(clippy::too_many_arguments)]
 pub unsafe fn get<M: ArrayModel, T>(
     c: Fmi3Instance,
     function: &str,
@@ -285,6 +267,7 @@ pub unsafe fn get_string<M: ArrayModel>(
 ///
 /// # Safety
 /// See the module documentation.
+#[allow(clippy::too_many_arguments)]
 pub unsafe fn set<M: ArrayModel, T: Copy>(
     c: Fmi3Instance,
     function: &str,

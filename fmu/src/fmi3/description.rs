@@ -15,8 +15,7 @@
 //! on every input (direct feedthrough, no states), by value reference; the initial unknowns are the outputs.
 
 use super::arrays::{ArrayInfo, Count, is_array};
-use crate::fmi2::description::{esc, real, unit_definitions, uuid_of};
-use crate::fmi2::logging::CATEGORIES;
+use crate::fmi2::description::{categories_and_experiment, esc, real, unit_definitions, uuid_of};
 use crate::fmi2::model::ModelInfo;
 use crate::fmi2::variables::{Causality, Kind, Variability, Variable};
 use std::fmt::Write;
@@ -143,23 +142,7 @@ fn document(info: &ModelInfo, arrays: &ArrayInfo, token: &str) -> String {
         esc(info.model_identifier)
     );
     unit_definitions(&mut x, info);
-    let _ = writeln!(x, "  <LogCategories>");
-    for (name, description) in CATEGORIES {
-        let _ = writeln!(
-            x,
-            "    <Category name=\"{name}\" description=\"{}\"/>",
-            esc(&description.replace("fmi2", "fmi3"))
-        );
-    }
-    let _ = writeln!(x, "  </LogCategories>");
-    let e = info.default_experiment;
-    let _ = writeln!(
-        x,
-        "  <DefaultExperiment startTime=\"{}\" stopTime=\"{}\" stepSize=\"{}\"/>",
-        real(e.start_time),
-        real(e.stop_time),
-        real(e.step_size)
-    );
+    categories_and_experiment(&mut x, info, "fmi3");
     let _ = writeln!(x, "  <ModelVariables>");
     let _ = writeln!(
         x,

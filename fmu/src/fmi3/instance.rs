@@ -12,7 +12,7 @@ use super::state::{self, Interface, State};
 use crate::fmi2::ffi::Status;
 use crate::fmi2::instance::{Failure, Outcome};
 use crate::fmi2::logging::{Logger, Message};
-use crate::fmi2::snapshot::{ModelState, Reader, fnv1a64, put_str, put_values};
+use crate::fmi2::snapshot::{ModelState, begin, open, put_values, seal};
 use crate::fmi2::variables::{Causality, Type, Value, Values};
 use rayon::prelude::*;
 use std::ffi::CString;
@@ -723,10 +723,7 @@ pub struct Snapshot<S> {
 impl<S: ModelState> Snapshot<S> {
     /// The serialized bytes; `token` identifies the model.
     pub fn to_bytes(&self, token: &str) -> Vec<u8> {
-        let mut out = Vec::with_capacity(256 * self.elements.len());
-        out.extend_from_slice(MAGIC);
-        out.extend_from_slice(&VERSION.to_le_bytes());
-        put_str(&mut out, token);
+        let mut out = begin(MAGIC, VERSION, token);
         out.extend_from_slice(&state_code(self.state).to_le_bytes());
         out.extend_from_slice(&self.time.to_le_bytes());
         out.extend_from_slice(&self.threads.to_le_bytes());
@@ -736,9 +733,7 @@ impl<S: ModelState> Snapshot<S> {
             put_values(&mut out, values);
             model.write(&mut out);
         }
-        let sum = fnv1a64(&out);
-        out.extend_from_slice(&sum.to_le_bytes());
-        out
+        seal(out)
     }
 
     /// Reads bytes written by [`Snapshot::to_bytes`] for the same model (`arrays` bound the counts).
@@ -748,26 +743,7 @@ impl<S: ModelState> Snapshot<S> {
         table: &'static [crate::fmi2::variables::Variable],
         arrays: &ArrayInfo,
     ) -> Result<Snapshot<S>, String> {
-        if bytes.len() < MAGIC.len() + 8 || &bytes[..MAGIC.len()] != MAGIC {
-            return Err("not a serialized FMU state of this FMU (bad header)".into());
-        }
-        let (body, sum) = bytes.split_at(bytes.len() - 8);
-        if fnv1a64(body).to_le_bytes() != sum {
-            return Err("serialized FMU state is corrupt (checksum mismatch)".into());
-        }
-        let mut r = Reader::new(&body[MAGIC.len()..]);
-        let version = r.u32()?;
-        if version != VERSION {
-            return Err(format!(
-                "serialized FMU state has format version {version}, expected {VERSION}"
-            ));
-        }
-        let theirs = r.string()?;
-        if theirs != token {
-            return Err(format!(
-                "serialized FMU state belongs to another FMU (instantiation token {theirs})"
-            ));
-        }
+        let mut r = open(bytes, MAGIC, VERSION, token, "instantiation token")?;
         let code = u16::from_le_bytes(r.array()?);
         let state = State::ALL
             .into_iter()

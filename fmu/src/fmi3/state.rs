@@ -8,7 +8,8 @@
 //! no reconfiguration mode in the step or event modes. Co-Simulation instantiated with `eventModeUsed`
 //! enters event mode after initialization (and `fmi3EnterStepMode` leaves it); there are no events.
 
-pub use crate::fmi2::state::Interface;
+use crate::fmi2::state::StateBit;
+pub use crate::fmi2::state::{Interface, Mask};
 
 /// The state of one instance; each state one bit so that a set of states is a mask.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -56,64 +57,42 @@ impl State {
     }
 }
 
-/// A set of states, and the interface types a function belongs to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Mask {
-    states: u16,
-    interfaces: u8,
+impl StateBit for State {
+    fn bit(self) -> u16 {
+        self as u16
+    }
 }
 
-impl Mask {
-    const fn of(states: &[State]) -> Mask {
-        let mut bits = 0;
-        let mut i = 0;
-        while i < states.len() {
-            bits |= states[i] as u16;
-            i += 1;
-        }
-        Mask {
-            states: bits,
-            interfaces: Interface::ModelExchange as u8 | Interface::CoSimulation as u8,
-        }
+/// The mask of `states`, for functions of both interface types.
+const fn of(states: &[State]) -> Mask {
+    let mut bits = 0;
+    let mut i = 0;
+    while i < states.len() {
+        bits |= states[i] as u16;
+        i += 1;
     }
-
-    const fn only(self, interface: Interface) -> Mask {
-        Mask {
-            states: self.states,
-            interfaces: interface as u8,
-        }
-    }
-
-    /// Whether `state` is in the set.
-    pub fn allows(self, state: State) -> bool {
-        self.states & state as u16 != 0
-    }
-
-    /// Whether the function belongs to `interface`.
-    pub fn serves(self, interface: Interface) -> bool {
-        self.interfaces & interface as u8 != 0
-    }
+    Mask::of_bits(bits)
 }
 
 use Interface::{CoSimulation as CS, ModelExchange as ME};
 use State::*;
 
 /// Every state.
-pub const ANY: Mask = Mask::of(&State::ALL);
+pub const ANY: Mask = of(&State::ALL);
 /// No state (functions of an interface type this FMU does not provide).
-pub const NONE: Mask = Mask::of(&[]);
+pub const NONE: Mask = of(&[]);
 /// `fmi3EnterInitializationMode`, `fmi3EnterConfigurationMode`.
-pub const INSTANTIATED: Mask = Mask::of(&[Instantiated]);
+pub const INSTANTIATED: Mask = of(&[Instantiated]);
 /// `fmi3ExitConfigurationMode`.
-pub const EXIT_CONFIGURATION: Mask = Mask::of(&[ConfigurationMode]);
+pub const EXIT_CONFIGURATION: Mask = of(&[ConfigurationMode]);
 /// `fmi3ExitInitializationMode`.
-pub const EXIT_INITIALIZATION: Mask = Mask::of(&[InitializationMode]);
+pub const EXIT_INITIALIZATION: Mask = of(&[InitializationMode]);
 /// `fmi3EnterEventMode` (Co-Simulation only with event mode used).
-pub const ENTER_EVENT_MODE: Mask = Mask::of(&[StepMode, ContinuousTimeMode]);
+pub const ENTER_EVENT_MODE: Mask = of(&[StepMode, ContinuousTimeMode]);
 /// `fmi3Terminate`.
-pub const TERMINATE: Mask = Mask::of(&[EventMode, StepMode, ContinuousTimeMode]);
+pub const TERMINATE: Mask = of(&[EventMode, StepMode, ContinuousTimeMode]);
 /// `fmi3Get*`.
-pub const GET: Mask = Mask::of(&[
+pub const GET: Mask = of(&[
     Instantiated,
     ConfigurationMode,
     InitializationMode,
@@ -124,7 +103,7 @@ pub const GET: Mask = Mask::of(&[
     Error,
 ]);
 /// `fmi3Set*` (each variable further restricted by its causality and variability).
-pub const SET: Mask = Mask::of(&[
+pub const SET: Mask = of(&[
     Instantiated,
     ConfigurationMode,
     InitializationMode,
@@ -133,11 +112,11 @@ pub const SET: Mask = Mask::of(&[
     ContinuousTimeMode,
 ]);
 /// The states in which fixed parameters may be set.
-pub const SET_FIXED_PARAMETER: Mask = Mask::of(&[Instantiated, InitializationMode]);
+pub const SET_FIXED_PARAMETER: Mask = of(&[Instantiated, InitializationMode]);
 /// The states in which structural parameters of variability fixed may be set.
-pub const SET_STRUCTURAL_PARAMETER: Mask = Mask::of(&[ConfigurationMode]);
+pub const SET_STRUCTURAL_PARAMETER: Mask = of(&[ConfigurationMode]);
 /// The states in which inputs may be set.
-pub const SET_INPUT: Mask = Mask::of(&[
+pub const SET_INPUT: Mask = of(&[
     Instantiated,
     InitializationMode,
     EventMode,
@@ -145,10 +124,9 @@ pub const SET_INPUT: Mask = Mask::of(&[
     ContinuousTimeMode,
 ]);
 /// The states in which outputs are brought to the current inputs before they are read.
-pub const UPDATE_OUTPUTS: Mask =
-    Mask::of(&[InitializationMode, EventMode, StepMode, ContinuousTimeMode]);
+pub const UPDATE_OUTPUTS: Mask = of(&[InitializationMode, EventMode, StepMode, ContinuousTimeMode]);
 /// `fmi3GetDirectionalDerivative`, `fmi3GetAdjointDerivative`.
-pub const DERIVATIVE: Mask = Mask::of(&[
+pub const DERIVATIVE: Mask = of(&[
     InitializationMode,
     EventMode,
     StepMode,
@@ -157,22 +135,22 @@ pub const DERIVATIVE: Mask = Mask::of(&[
     Error,
 ]);
 /// `fmi3UpdateDiscreteStates`, `fmi3EvaluateDiscreteStates`.
-pub const EVENT: Mask = Mask::of(&[EventMode]);
+pub const EVENT: Mask = of(&[EventMode]);
 /// `fmi3EnterStepMode`.
-pub const ENTER_STEP_MODE: Mask = Mask::of(&[EventMode]).only(CS);
+pub const ENTER_STEP_MODE: Mask = of(&[EventMode]).only(CS);
 /// `fmi3DoStep`.
-pub const DO_STEP: Mask = Mask::of(&[StepMode]).only(CS);
+pub const DO_STEP: Mask = of(&[StepMode]).only(CS);
 /// `fmi3GetOutputDerivatives`.
-pub const GET_OUTPUT_DERIVATIVES: Mask = Mask::of(&[StepMode, Terminated, Error]).only(CS);
+pub const GET_OUTPUT_DERIVATIVES: Mask = of(&[StepMode, Terminated, Error]).only(CS);
 /// `fmi3EnterContinuousTimeMode`.
-pub const ENTER_CONTINUOUS_TIME_MODE: Mask = Mask::of(&[EventMode]).only(ME);
+pub const ENTER_CONTINUOUS_TIME_MODE: Mask = of(&[EventMode]).only(ME);
 /// `fmi3CompletedIntegratorStep`, `fmi3SetContinuousStates`.
-pub const CONTINUOUS_TIME: Mask = Mask::of(&[ContinuousTimeMode]).only(ME);
+pub const CONTINUOUS_TIME: Mask = of(&[ContinuousTimeMode]).only(ME);
 /// `fmi3SetTime`.
-pub const SET_TIME: Mask = Mask::of(&[EventMode, ContinuousTimeMode]).only(ME);
+pub const SET_TIME: Mask = of(&[EventMode, ContinuousTimeMode]).only(ME);
 /// `fmi3GetContinuousStateDerivatives`, `fmi3GetEventIndicators`, `fmi3GetContinuousStates`,
 /// `fmi3GetNominalsOfContinuousStates`.
-pub const GET_CONTINUOUS: Mask = Mask::of(&[
+pub const GET_CONTINUOUS: Mask = of(&[
     InitializationMode,
     EventMode,
     ContinuousTimeMode,
