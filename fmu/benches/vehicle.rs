@@ -12,8 +12,9 @@
 //!
 //! The three runs of [`ROUNDS`] alternate (a shared machine's load changes between runs); each round
 //! starts fresh instances. Per run: the time per vehicle step (median over the rounds of the round's mean;
-//! min), the speed-up of each over the FMI 2.0 instances, and the share of contact steps the exact solver
-//! evaluated. Every output of every step must be bit for bit the same in all three (else the bench fails).
+//! min) and the CPU time of the process per step, the speed-up of each over the FMI 2.0 instances, the
+//! share of contact steps the exact solver evaluated, and each contact's time per step (by the FMI 2.0
+//! instances; the slowest contact bounds what two threads can gain, since a step waits for all). Every output of every step must be bit for bit the same in all three (else the bench fails).
 //! [`STEPS`] vehicle steps (environment variable `WHEELRAIL_VEHICLE_STEPS`) from the trace's start. Run
 //! with `cargo bench -p wheelrail-fmu --bench vehicle`.
 
@@ -122,8 +123,9 @@ impl Clock {
 /// What a run read: per vehicle step and contact the outputs' bits and `evaluation_mode`.
 type Record = Vec<[u64; 4]>;
 
-/// Eight FMI 2.0 instances stepped in turn: seconds per vehicle step and the record.
-fn fmi2_run(t: &Trace, steps: usize) -> (Timing, Record) {
+/// Eight FMI 2.0 instances stepped in turn: the time per vehicle step, the record, and each contact's
+/// mean time per step [s] (the slowest contact bounds what threads can gain).
+fn fmi2_run(t: &Trace, steps: usize) -> (Timing, Record, Vec<f64>) {
     let setup = Setup {
         mode: 0,
         grid: AUTOMATIC_GRID_SIZE,
@@ -134,9 +136,11 @@ fn fmi2_run(t: &Trace, steps: usize) -> (Timing, Record) {
     let fmus: Vec<_> = (0..CONTACTS).map(|_| unsafe { instance(&setup) }).collect();
     let read: Vec<u32> = READ.iter().map(|i| *i as u32).collect();
     let mut record = Vec::with_capacity(steps * CONTACTS);
+    let mut per_contact = vec![0.0; CONTACTS];
     let start = Clock::start();
     for i in 0..steps {
         for (k, fmu) in fmus.iter().enumerate() {
+            let contact = Instant::now();
             let inputs = row(t, k, i);
             let (mut out, mut mode) = ([0.0; 3], 0);
             unsafe {
@@ -151,13 +155,14 @@ fn fmi2_run(t: &Trace, steps: usize) -> (Timing, Record) {
                 out[2].to_bits(),
                 mode as u64,
             ]);
+            per_contact[k] += contact.elapsed().as_secs_f64() / steps as f64;
         }
     }
     let seconds = start.per_step(steps);
     for fmu in fmus {
         unsafe { fmi2FreeInstance(fmu) };
     }
-    (seconds, record)
+    (seconds, record, per_contact)
 }
 
 /// One FMI 3.0 instance of eight contacts on `threads` threads (mode 0, grid automatic, warm start on).
@@ -254,10 +259,15 @@ fn main() {
     ];
     let mut times = vec![Vec::new(); 3];
     let mut reference: Option<Record> = None;
+    let mut per_contact = Vec::new();
     for round in 0..ROUNDS {
         for (r, name) in names.iter().enumerate() {
             let (seconds, record) = match r {
-                0 => fmi2_run(&trace, steps),
+                0 => {
+                    let (seconds, record, contacts) = fmi2_run(&trace, steps);
+                    per_contact = contacts;
+                    (seconds, record)
+                }
                 _ => fmi3_run(&trace, steps, r as u64),
             };
             match &reference {
@@ -298,6 +308,16 @@ fn main() {
             cpu(r) / wall(r)
         );
     }
+    let total: f64 = per_contact.iter().sum();
+    let slowest = per_contact.iter().cloned().fold(0.0, f64::max);
+    let ms: Vec<String> = per_contact.iter().map(|t| format!("{:.3}", t * 1e3)).collect();
+    println!(
+        "FMI 2.0 time per step by contact [ms]: {} (the slowest {:.0} % of the vehicle step: two threads \
+         gain at most {:.2}x)",
+        ms.join(" "),
+        100.0 * slowest / total,
+        total / (total / 2.0).max(slowest)
+    );
     println!(
         "machine: {} cores, load average {}",
         std::thread::available_parallelism().map_or(0, |n| n.get()),
