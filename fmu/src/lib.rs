@@ -3,7 +3,8 @@
 //! The wheel–rail friction model of the `wheelrail` library as an FMI 2.0 FMU for Co-Simulation and Model
 //! Exchange (one binary, modelIdentifier `WheelRailFriction`): one instance per wheel–rail contact,
 //! quasi-static (the outputs are a function of the current inputs and parameters), any number of
-//! instances per process on any threads.
+//! instances per process on any threads. The same binary is the FMI 3.0 FMU: one instance holds any number
+//! of contacts, evaluated in parallel.
 //!
 //! - [`fmi2`]: a generic FMI 2.0 Co-Simulation and Model Exchange layer (C types, state machines,
 //!   instance, logging, FMU states, finite-difference derivatives, `modelDescription.xml`), independent
