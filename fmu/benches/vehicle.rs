@@ -310,7 +310,10 @@ fn main() {
     }
     let total: f64 = per_contact.iter().sum();
     let slowest = per_contact.iter().cloned().fold(0.0, f64::max);
-    let ms: Vec<String> = per_contact.iter().map(|t| format!("{:.3}", t * 1e3)).collect();
+    let ms: Vec<String> = per_contact
+        .iter()
+        .map(|t| format!("{:.3}", t * 1e3))
+        .collect();
     println!(
         "FMI 2.0 time per step by contact [ms]: {} (the slowest {:.0} % of the vehicle step: two threads \
          gain at most {:.2}x)",
