@@ -249,3 +249,206 @@ fn the_model_description_dimensions_the_arrays() {
     other.element_parameters = &[];
     assert_ne!(token(&INFO, &ARRAYS), token(&INFO, &other));
 }
+
+/// The FMI 2.0 fuzzer's ideas at a small budget, through the exported C functions: random call sequences
+/// (legal and illegal, in both interface types), array lengths right and wrong, NaN and infinite inputs,
+/// `contacts` in and out of configuration mode, FMU states taken and set. Every call returns OK, Warning or
+/// Error; no call panics (a caught panic logs "internal error"); `contacts` changes only by a valid value
+/// in configuration mode (or a reset, or a restored state); a refused set leaves the values as they were.
+#[test]
+fn random_call_sequences_keep_the_invariants() {
+    use crate::exports_fmi3::*;
+    use std::ffi::{CString, c_char, c_void};
+    use std::ptr::{null, null_mut};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static PANICS: AtomicUsize = AtomicUsize::new(0);
+    unsafe extern "C" fn log(_: *mut c_void, _: i32, _: *const c_char, message: *const c_char) {
+        let m = unsafe { std::ffi::CStr::from_ptr(message) }.to_string_lossy();
+        if m.contains("internal error") {
+            PANICS.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+    /// Sequences and calls per sequence.
+    const SEQUENCES: usize = 100;
+    const CALLS: usize = 40;
+    let token = CString::new(token(&INFO, &ARRAYS)).unwrap();
+    let table = CString::new(concat!(env!("CARGO_MANIFEST_DIR"), "/resources/table")).unwrap();
+    let mut seed: u64 = 16;
+    let mut next = |n: u64| {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 33) % n
+    };
+    let contacts_of = |fmu| {
+        let mut n = 0u64;
+        assert_eq!(unsafe { fmi3GetUInt64(fmu, &CONTACTS_VR, 1, &mut n, 1) }, 0);
+        n
+    };
+    // an instance that holds the bundled table for the whole test (the process shares a loaded table
+    // while an instance uses it; each sequence would load it again)
+    let path = Value::String(table.to_str().unwrap().into());
+    let mut holder = Vehicle::new(
+        "t".into(),
+        Interface::CoSimulation,
+        Logger::new(None, false),
+        None,
+    );
+    holder
+        .set(&[TABLE_FILE as u32], Type::String, 1, |_| Ok(path.clone()))
+        .unwrap();
+    holder
+        .set(&[MODE as u32], Type::Integer, 1, |_| Ok(Value::Integer(1)))
+        .unwrap();
+    holder.enter_initialization_mode(0.0).unwrap();
+    holder.exit_initialization_mode().unwrap();
+    for _ in 0..SEQUENCES {
+        let me = next(2) == 0;
+        let fmu = unsafe {
+            match me {
+                true => fmi3InstantiateModelExchange(
+                    c"fuzz".as_ptr(),
+                    token.as_ptr(),
+                    null(),
+                    false,
+                    false,
+                    null_mut(),
+                    Some(log),
+                ),
+                false => fmi3InstantiateCoSimulation(
+                    c"fuzz".as_ptr(),
+                    token.as_ptr(),
+                    null(),
+                    false,
+                    false,
+                    next(2) == 0,
+                    false,
+                    null(),
+                    0,
+                    null_mut(),
+                    Some(log),
+                    None,
+                ),
+            }
+        };
+        assert!(!fmu.is_null());
+        let (mode, table_vr) = (1i32, TABLE_FILE as u32);
+        unsafe {
+            assert_eq!(fmi3SetInt32(fmu, &(MODE as u32), 1, &mode, 1), 0);
+            assert_eq!(fmi3SetString(fmu, &table_vr, 1, &table.as_ptr(), 1), 0);
+        }
+        let mut expected = 1u64;
+        let mut in_configuration = false;
+        let mut states = Vec::new();
+        for _ in 0..CALLS {
+            let n = contacts_of(fmu) as usize;
+            assert_eq!(n as u64, expected);
+            let status = unsafe {
+                match next(15) {
+                    0 => {
+                        let s = fmi3EnterConfigurationMode(fmu);
+                        in_configuration |= s == 0;
+                        s
+                    }
+                    1 => {
+                        let s = fmi3ExitConfigurationMode(fmu);
+                        in_configuration &= s != 0;
+                        s
+                    }
+                    2 => {
+                        let want = next(7);
+                        let s = fmi3SetUInt64(fmu, &CONTACTS_VR, 1, &want, 1);
+                        let valid = in_configuration && want >= 1;
+                        assert_eq!(s == 0, valid, "contacts {want}");
+                        if valid {
+                            expected = want;
+                        }
+                        s
+                    }
+                    3 => fmi3SetUInt64(fmu, &THREADS_VR, 1, &next(3), 1),
+                    4 => fmi3EnterInitializationMode(fmu, false, 0.0, 0.0, false, 0.0),
+                    5 => fmi3ExitInitializationMode(fmu),
+                    6 | 7 => {
+                        // an array of the right length or one off; finite, NaN or infinite
+                        let len = match next(3) {
+                            0 => n + 1,
+                            _ => n,
+                        };
+                        let x = [0.003, f64::NAN, f64::INFINITY][next(3) as usize];
+                        let values = vec![x; len];
+                        let vr = CREEPAGE_LONGITUDINAL as u32;
+                        let mut before = vec![0.0; n];
+                        fmi3GetFloat64(fmu, &vr, 1, before.as_mut_ptr(), n);
+                        let s = fmi3SetFloat64(fmu, &vr, 1, values.as_ptr(), len);
+                        if len != n || !x.is_finite() {
+                            assert_eq!(s, 3);
+                            let mut after = vec![0.0; n];
+                            fmi3GetFloat64(fmu, &vr, 1, after.as_mut_ptr(), n);
+                            assert_eq!(before, after, "a refused set changed the values");
+                        }
+                        s
+                    }
+                    8 => {
+                        let len = n + next(2) as usize;
+                        let mut out = vec![0.0; len];
+                        let vr = FORCE_LONGITUDINAL as u32;
+                        let s = fmi3GetFloat64(fmu, &vr, 1, out.as_mut_ptr(), len);
+                        if len != n {
+                            assert_eq!(s, 3);
+                        }
+                        s
+                    }
+                    9 => {
+                        let (mut a, mut b, mut c, mut t) = (false, false, false, 0.0);
+                        let step = [1e-3, -1.0][next(2) as usize];
+                        fmi3DoStep(fmu, 0.0, step, true, &mut a, &mut b, &mut c, &mut t)
+                    }
+                    10 => match next(4) {
+                        0 => fmi3EnterEventMode(fmu),
+                        1 => fmi3EnterStepMode(fmu),
+                        2 => fmi3EnterContinuousTimeMode(fmu),
+                        _ => {
+                            let (mut a, mut b) = (false, false);
+                            fmi3CompletedIntegratorStep(fmu, true, &mut a, &mut b)
+                        }
+                    },
+                    11 => {
+                        let mut s = null_mut();
+                        let r = fmi3GetFMUState(fmu, &mut s);
+                        if r == 0 {
+                            states.push((s, contacts_of(fmu), in_configuration));
+                        }
+                        r
+                    }
+                    12 => match states.last() {
+                        Some(&(s, k, configuring)) => {
+                            let r = fmi3SetFMUState(fmu, s);
+                            if r == 0 {
+                                expected = k;
+                                in_configuration = configuring;
+                            }
+                            r
+                        }
+                        None => fmi3SetFMUState(fmu, null_mut()),
+                    },
+                    13 => {
+                        let r = fmi3Reset(fmu);
+                        expected = 1;
+                        in_configuration = false;
+                        fmi3SetInt32(fmu, &(MODE as u32), 1, &mode, 1);
+                        fmi3SetString(fmu, &table_vr, 1, &table.as_ptr(), 1);
+                        r
+                    }
+                    _ => fmi3Terminate(fmu),
+                }
+            };
+            assert!(matches!(status, 0 | 1 | 3), "status {status}");
+        }
+        for (mut s, _, _) in states {
+            assert_eq!(unsafe { fmi3FreeFMUState(fmu, &mut s) }, 0);
+        }
+        unsafe { fmi3FreeInstance(fmu) };
+    }
+    holder.terminate().unwrap();
+    assert_eq!(PANICS.load(Ordering::Relaxed), 0, "a call panicked");
+}
