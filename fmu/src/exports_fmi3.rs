@@ -188,62 +188,29 @@ fn boolean(v: &Value) -> bool {
     }
 }
 
-/// `fmi3GetFloat64`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi3GetFloat64(
-    c: Fmi3Instance,
-    vrs: *const Fmi3ValueReference,
-    nvr: usize,
-    values: *mut f64,
-    n: usize,
-) -> Fmi3StatusC {
-    unsafe {
-        api::get::<M, _>(
-            c,
-            "fmi3GetFloat64",
-            Type::Real,
-            vrs,
-            nvr,
-            values,
-            n,
-            float64,
-        )
-    }
+/// The getters of the table's types: values of table type `$ty` converted by `$convert`.
+macro_rules! typed_get {
+    ($($name:ident, $c:ty, $ty:ident, $convert:ident;)*) => {$(
+        #[doc = concat!("`", stringify!($name), "`.")]
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name(
+            c: Fmi3Instance,
+            vrs: *const Fmi3ValueReference,
+            nvr: usize,
+            values: *mut $c,
+            n: usize,
+        ) -> Fmi3StatusC {
+            unsafe {
+                api::get::<M, _>(c, stringify!($name), Type::$ty, vrs, nvr, values, n, $convert)
+            }
+        }
+    )*};
 }
 
-/// `fmi3GetInt32`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi3GetInt32(
-    c: Fmi3Instance,
-    vrs: *const Fmi3ValueReference,
-    nvr: usize,
-    values: *mut i32,
-    n: usize,
-) -> Fmi3StatusC {
-    unsafe { api::get::<M, _>(c, "fmi3GetInt32", Type::Integer, vrs, nvr, values, n, int32) }
-}
-
-/// `fmi3GetBoolean`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi3GetBoolean(
-    c: Fmi3Instance,
-    vrs: *const Fmi3ValueReference,
-    nvr: usize,
-    values: *mut bool,
-    n: usize,
-) -> Fmi3StatusC {
-    unsafe {
-        api::get::<M, _>(
-            c,
-            "fmi3GetBoolean",
-            Type::Boolean,
-            vrs,
-            nvr,
-            values,
-            n,
-            boolean,
-        )
-    }
+typed_get! {
+    fmi3GetFloat64, f64, Real, float64;
+    fmi3GetInt32, i32, Integer, int32;
+    fmi3GetBoolean, bool, Boolean, boolean;
 }
 
 /// `fmi3GetString`.
@@ -270,36 +237,30 @@ pub unsafe extern "C" fn fmi3GetUInt64(
     unsafe { api::counts::<M>(c, false, vrs, nvr, values, n) }
 }
 
-/// `fmi3SetFloat64`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi3SetFloat64(
-    c: Fmi3Instance,
-    vrs: *const Fmi3ValueReference,
-    nvr: usize,
-    values: *const f64,
-    n: usize,
-) -> Fmi3StatusC {
-    unsafe {
-        api::set::<M, _>(c, "fmi3SetFloat64", Type::Real, vrs, nvr, values, n, |x| {
-            Ok(Value::Real(x))
-        })
-    }
+/// The setters of Float64 and Int32: each value becomes the table's `$variant`.
+macro_rules! typed_set {
+    ($($name:ident, $c:ty, $ty:ident, $variant:ident;)*) => {$(
+        #[doc = concat!("`", stringify!($name), "`.")]
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name(
+            c: Fmi3Instance,
+            vrs: *const Fmi3ValueReference,
+            nvr: usize,
+            values: *const $c,
+            n: usize,
+        ) -> Fmi3StatusC {
+            unsafe {
+                api::set::<M, _>(c, stringify!($name), Type::$ty, vrs, nvr, values, n, |x| {
+                    Ok(Value::$variant(x))
+                })
+            }
+        }
+    )*};
 }
 
-/// `fmi3SetInt32`.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi3SetInt32(
-    c: Fmi3Instance,
-    vrs: *const Fmi3ValueReference,
-    nvr: usize,
-    values: *const i32,
-    n: usize,
-) -> Fmi3StatusC {
-    unsafe {
-        api::set::<M, _>(c, "fmi3SetInt32", Type::Integer, vrs, nvr, values, n, |x| {
-            Ok(Value::Integer(x))
-        })
-    }
+typed_set! {
+    fmi3SetFloat64, f64, Real, Real;
+    fmi3SetInt32, i32, Integer, Integer;
 }
 
 /// `fmi3SetBoolean`: a C `bool` is read as a byte, so that any byte an importer passes is defined (0
