@@ -7,6 +7,7 @@ PYTHON ?= python3
 VENV := .venv
 VPY := $(VENV)/bin/python
 FMU := target/fmu/WheelRailFriction.fmu
+FMU3 := target/fmu/WheelRailFriction-fmi3.fmu
 
 .PHONY: all build test test-rust test-python test-win64 examples lint demo clean venv fmu fmu-linux fmu-lib fmu-win64-lib model-description parameter-docs bench table slurm-test fuzz
 
@@ -33,9 +34,11 @@ examples:
 	$(CARGO) run --release -p wheelrail --example sweep
 	$(CARGO) run --release -p wheelrail --example table_lookup
 
-# regenerate modelDescription/modelDescription.xml from the variable table (a test checks it is current)
+# regenerate modelDescription/modelDescription.xml and modelDescription-fmi3.xml (FMI 3.0) from the variable
+# table (tests check they are current)
 model-description:
 	$(CARGO) run --release -p wheelrail-cli --bin package-fmu -- --model-description modelDescription/modelDescription.xml
+	$(CARGO) run --release -p wheelrail-cli --bin package-fmu -- --fmi3 --model-description modelDescription/modelDescription-fmi3.xml
 
 # regenerate docs/parameters.md from the parameter specification src/params/spec.rs (a test checks it is current)
 parameter-docs:
@@ -47,14 +50,18 @@ WIN64_DLL := target/win64/WheelRailFriction.dll
 fmu-win64-lib:
 	tools/win64-build.sh
 
-# target/fmu/WheelRailFriction.fmu with both binaries, linux64 and win64
+# target/fmu/WheelRailFriction.fmu (FMI 2.0) and WheelRailFriction-fmi3.fmu (FMI 3.0) with both binaries,
+# linux64 and win64 (the same library serves both versions)
 fmu: fmu-lib fmu-win64-lib
 	./target/release/package-fmu --library linux64=target/release/libWheelRailFriction.so \
 		--library win64=$(WIN64_DLL) --out $(FMU)
+	./target/release/package-fmu --fmi3 --library linux64=target/release/libWheelRailFriction.so \
+		--library win64=$(WIN64_DLL) --out $(FMU3)
 
-# the same FMU with the linux64 binary only (no cross build: for development on Linux)
+# the same FMUs with the linux64 binary only (no cross build: for development on Linux)
 fmu-linux: fmu-lib
 	./target/release/package-fmu --library target/release/libWheelRailFriction.so --out $(FMU)
+	./target/release/package-fmu --fmi3 --library target/release/libWheelRailFriction.so --out $(FMU3)
 
 $(VENV)/.installed: requirements.txt
 	$(PYTHON) -m venv $(VENV)

@@ -18,6 +18,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 use wheelrail::{OperatingPoint, Params};
 
+mod fmi3;
 mod fuzz;
 
 const OK: c_int = 0;

@@ -6,7 +6,11 @@
 //! package-fmu --library linux64=libWheelRailFriction.so --library win64=WheelRailFriction.dll \
 //!             --library darwin64=libWheelRailFriction.dylib --out WheelRailFriction.fmu
 //! package-fmu --binaries DIR --out WheelRailFriction.fmu
+//! package-fmu --fmi3 --library linux64=libWheelRailFriction.so --out WheelRailFriction-fmi3.fmu
 //! ```
+//!
+//! `--fmi3` packs the FMI 3.0 FMU from the same library: its `modelDescription.xml` (contacts as arrays)
+//! and the FMI 3.0 platform directories (`x86_64-linux`, `x86_64-windows`, … for `linux64`, `win64`, …).
 //!
 //! The archive holds `modelDescription.xml`, the shared library of every platform as
 //! `binaries/<platform>/WheelRailFriction.<so|dll|dylib>` (renamed to the modelIdentifier), `resources/`
@@ -38,6 +42,8 @@ use zip::write::SimpleFileOptions;
 struct Platform {
     /// The directory name under `binaries/`.
     name: &'static str,
+    /// The directory name under `binaries/` in an FMI 3.0 FMU (its platform tuple, standard §2.5.1.4).
+    tuple: &'static str,
     /// The shared library's file extension.
     extension: &'static str,
     /// The format's name, for messages.
@@ -59,12 +65,14 @@ const MACH_O: &[&[u8]] = &[
 
 const fn platform(
     name: &'static str,
+    tuple: &'static str,
     extension: &'static str,
     format: &'static str,
     magic: &'static [&'static [u8]],
 ) -> Platform {
     Platform {
         name,
+        tuple,
         extension,
         format,
         magic,
@@ -73,12 +81,12 @@ const fn platform(
 
 /// The platforms of FMI 2.0.
 const PLATFORMS: [Platform; 6] = [
-    platform("win32", "dll", "PE", PE),
-    platform("win64", "dll", "PE", PE),
-    platform("linux32", "so", "ELF", ELF),
-    platform("linux64", "so", "ELF", ELF),
-    platform("darwin32", "dylib", "Mach-O", MACH_O),
-    platform("darwin64", "dylib", "Mach-O", MACH_O),
+    platform("win32", "x86-windows", "dll", "PE", PE),
+    platform("win64", "x86_64-windows", "dll", "PE", PE),
+    platform("linux32", "x86-linux", "so", "ELF", ELF),
+    platform("linux64", "x86_64-linux", "so", "ELF", ELF),
+    platform("darwin32", "x86-darwin", "dylib", "Mach-O", MACH_O),
+    platform("darwin64", "x86_64-darwin", "dylib", "Mach-O", MACH_O),
 ];
 
 impl Platform {
@@ -109,11 +117,13 @@ impl Platform {
         Platform::named(name).expect("the host platform is in the table")
     }
 
-    /// The library's path inside the FMU.
-    fn archive_path(self) -> String {
+    /// The library's path inside the FMU (`fmi3`: an FMI 3.0 FMU).
+    fn archive_path(self, fmi3: bool) -> String {
         format!(
             "binaries/{}/{}.{}",
-            self.name, INFO.model_identifier, self.extension
+            if fmi3 { self.tuple } else { self.name },
+            INFO.model_identifier,
+            self.extension
         )
     }
 
@@ -149,6 +159,8 @@ struct Args {
     /// The libraries by platform, in the order given.
     libraries: Vec<(Platform, PathBuf)>,
     out: PathBuf,
+    /// `--fmi3`: the FMI 3.0 FMU (its model description and platform directories).
+    fmi3: bool,
 }
 
 /// One `--library` value: `PLATFORM=PATH`, or a path of the host platform's library.
@@ -215,6 +227,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Args> {
         model_description: None,
         libraries: Vec::new(),
         out: PathBuf::from("target/fmu/WheelRailFriction.fmu"),
+        fmi3: false,
     };
     let mut it = args.into_iter();
     while let Some(flag) = it.next() {
@@ -224,6 +237,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Args> {
             "--library" => a.libraries.push(library_arg(&value()?)?),
             "--binaries" => a.libraries.extend(binaries_dir(Path::new(&value()?))?),
             "--out" => a.out = value()?.into(),
+            "--fmi3" => a.fmi3 = true,
             _ => bail!("unknown argument {flag} (see the source's header for usage)"),
         }
     }
@@ -245,7 +259,10 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Args> {
 
 fn main() -> Result<()> {
     let a = parse_args(std::env::args().skip(1))?;
-    let xml = WheelRailFriction::model_description();
+    let xml = match a.fmi3 {
+        true => WheelRailFriction::model_description_fmi3(),
+        false => WheelRailFriction::model_description(),
+    };
     if let Some(path) = a.model_description {
         std::fs::write(&path, xml).with_context(|| format!("writing {}", path.display()))?;
         println!("wrote {}", path.display());
@@ -261,7 +278,7 @@ fn main() -> Result<()> {
                     platform.name
                 )
             })?;
-            Ok((platform.archive_path(), bytes))
+            Ok((platform.archive_path(a.fmi3), bytes))
         })
         .collect::<Result<Vec<_>>>()?;
     let doc_dir = a.out.with_extension("doc");
@@ -287,7 +304,7 @@ fn main() -> Result<()> {
     }
     add(
         "documentation/index.html",
-        documentation().as_bytes(),
+        documentation(a.fmi3).as_bytes(),
         0o644,
     )?;
     add("documentation/_main.html", MAIN_HTML.as_bytes(), 0o644)?;
@@ -431,7 +448,16 @@ fn variable_table(causality: Causality) -> String {
     )
 }
 
-fn documentation() -> String {
+/// The FMI 3.0 FMU's section of the documentation: contacts as arrays, threads.
+const FMI3_HTML: &str = "<h2>FMI 3.0: contacts as arrays</h2>\n<p>This FMI 3.0 FMU holds any number of contacts \
+in one instance: set the structural parameter <code>contacts</code> (UInt64, default 1) in configuration mode \
+(<code>fmi3EnterConfigurationMode</code> after instantiation), and every input and output below, and \
+<code>roughness</code>, is an array of that many values, one per contact; the other parameters are shared. \
+<code>threads</code> (UInt64, default 0: the cores the process may use) is how many threads evaluate the \
+contacts of a step; the results are bit for bit those of one evaluation after another, and of one FMI 2.0 \
+instance per contact with the same values. Log messages of a contact start with <code>contact k:</code>.</p>\n";
+
+fn documentation(fmi3: bool) -> String {
     let inputs = variable_table(Causality::Input);
     let outputs = variable_table(Causality::Output);
     let parameters = variable_table(Causality::Parameter);
@@ -448,7 +474,7 @@ wheel&ndash;rail contact: a model comprising interfacial fluids, surface roughne
 FASTSIM with a locally varying adhesion limit, flash temperature and an interfacial fluid, solved as one coupled
 fixed point. FMI 2.0 Co-Simulation and Model Exchange (one binary), one instance per contact; any number of
 instances per process, on any threads.</p>
-
+{fmi3_section}
 <h2>Conventions</h2>
 <ul>
 <li><b>Frame:</b> x along the track in the direction of travel for positive <code>rolling_speed</code>, y lateral,
@@ -525,6 +551,7 @@ display unit is the one an importer shows by default (<code>displayUnit</code> i
 "#,
         version = env!("CARGO_PKG_VERSION"),
         vmin = DEFAULT_MINIMUM_SPEED,
+        fmi3_section = if fmi3 { FMI3_HTML } else { "" },
     )
 }
 
@@ -550,7 +577,11 @@ mod tests {
             "darwin64=m.dylib",
         ])
         .unwrap();
-        let paths: Vec<_> = a.libraries.iter().map(|(p, _)| p.archive_path()).collect();
+        let paths: Vec<_> = a
+            .libraries
+            .iter()
+            .map(|(p, _)| p.archive_path(false))
+            .collect();
         assert_eq!(
             paths,
             [
@@ -582,7 +613,7 @@ mod tests {
 
     #[test]
     fn the_documentation_lists_each_variable_once_in_the_table_of_its_causality() {
-        let html = documentation();
+        let html = documentation(false);
         let section = |title: &str| {
             let start = html.find(&format!("<h2>{title}</h2>")).unwrap();
             let end = html[start..].find("</table>").unwrap() + start;

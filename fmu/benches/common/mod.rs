@@ -121,6 +121,21 @@ pub unsafe fn instance(s: &Setup) -> WheelRailFriction::fmi2::ffi::Fmi2Component
 #[cfg(target_os = "linux")]
 #[allow(dead_code)] // not every bench uses it
 pub fn thread_cpu_ns() -> f64 {
+    cpu_ns(3)
+}
+
+/// The CPU time all threads of this process have used (`CLOCK_PROCESS_CPUTIME_ID`; NaN where there is no
+/// such clock).
+#[cfg(target_os = "linux")]
+#[allow(dead_code)] // not every bench uses it
+pub fn process_cpu_ns() -> f64 {
+    cpu_ns(2)
+}
+
+/// The CPU time of a `clock_gettime` clock [ns].
+#[cfg(target_os = "linux")]
+#[allow(dead_code)] // not every bench uses it
+fn cpu_ns(clock: i32) -> f64 {
     #[repr(C)]
     struct Timespec {
         sec: i64,
@@ -129,10 +144,9 @@ pub fn thread_cpu_ns() -> f64 {
     unsafe extern "C" {
         fn clock_gettime(clock: i32, time: *mut Timespec) -> i32;
     }
-    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
     let mut t = Timespec { sec: 0, nsec: 0 };
     // SAFETY: a valid clock id and a pointer to a live timespec
-    match unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut t) } {
+    match unsafe { clock_gettime(clock, &mut t) } {
         0 => t.sec as f64 * 1e9 + t.nsec as f64,
         _ => f64::NAN,
     }
@@ -142,5 +156,12 @@ pub fn thread_cpu_ns() -> f64 {
 #[cfg(not(target_os = "linux"))]
 #[allow(dead_code)] // not every bench uses it
 pub fn thread_cpu_ns() -> f64 {
+    f64::NAN
+}
+
+/// The CPU time of this process (NaN: no such clock here).
+#[cfg(not(target_os = "linux"))]
+#[allow(dead_code)] // not every bench uses it
+pub fn process_cpu_ns() -> f64 {
     f64::NAN
 }

@@ -752,6 +752,13 @@ impl Model for WheelRailModel {
     }
 }
 
+/// In FMI 3.0, one instance holds `contacts` of these models, each evaluated as one FMI 2.0 instance.
+impl crate::fmi3::arrays::ArrayModel for WheelRailModel {
+    fn arrays() -> &'static crate::fmi3::arrays::ArrayInfo {
+        &ARRAYS
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -23,6 +23,7 @@
 
 use crate::fmi2::model::{DefaultExperiment, DisplayUnit, ModelInfo, Unit};
 use crate::fmi2::variables::{Causality, Kind, Variability, Variable};
+use crate::fmi3::arrays::{ArrayInfo, Count};
 use wheelrail::params::spec::{Bound, Fmu, SEMI_AXIS_RANGE, Spec};
 use wheelrail::params::{Input, Param};
 
@@ -747,6 +748,48 @@ pub static INFO: ModelInfo = ModelInfo {
     },
 };
 
+/// The value reference of the FMI 3.0 structural parameter `contacts` (beyond the variable table's).
+pub const CONTACTS_VR: u32 = 1000;
+/// The value reference of the FMI 3.0 parameter `threads`.
+pub const THREADS_VR: u32 = 1001;
+/// The value reference of the FMI 3.0 independent variable `time`.
+pub const TIME_VR: u32 = 1002;
+/// The most contacts one FMI 3.0 instance holds (a vehicle has a few dozen at most; the bound keeps a
+/// mistaken value from allocating without limit).
+pub const MAX_CONTACTS: u64 = 4096;
+/// The most threads one FMI 3.0 instance starts.
+pub const MAX_THREADS: u64 = 1024;
+
+/// The FMI 3.0 arrays of WheelRailFriction: every input and output per contact, and `roughness` (each
+/// wheel and rail its own surface).
+pub static ARRAYS: ArrayInfo = ArrayInfo {
+    size: Count {
+        name: "contacts",
+        vr: CONTACTS_VR,
+        start: 1,
+        min: 1,
+        max: MAX_CONTACTS,
+        description: "Number of wheel-rail contacts of this instance: the size of every input and output \
+                      array and of roughness (set in configuration mode)",
+    },
+    threads: Count {
+        name: "threads",
+        vr: THREADS_VR,
+        start: 0,
+        min: 0,
+        max: MAX_THREADS,
+        description: "Threads that evaluate the contacts of a step (0: the cores the process may use; \
+                      results are bit for bit the same for any number)",
+    },
+    time_vr: TIME_VR,
+    element_parameters: &[ROUGHNESS],
+    element: "contact",
+    description: "Wheel-rail friction after Tomberger, Dietmaier, Sextro and Six (Wear 271, 2011): creep forces of \
+                  any number of wheel-rail contacts (structural parameter contacts) from creepages, load, speed \
+                  and wetness, with roughness, temperature and interfacial fluid; quasi-static; the contacts \
+                  of a step evaluated in parallel",
+};
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -879,6 +922,15 @@ mod tests {
         assert!(
             committed == crate::model_description(),
             "modelDescription/modelDescription.xml differs from the variable table: run `make model-description`"
+        );
+    }
+
+    #[test]
+    fn committed_fmi3_model_description_is_current() {
+        let committed = include_str!("../../../modelDescription/modelDescription-fmi3.xml");
+        assert!(
+            committed == crate::model_description_fmi3(),
+            "modelDescription/modelDescription-fmi3.xml differs from the variable table: run `make model-description`"
         );
     }
 }

@@ -19,7 +19,7 @@ use super::logging::{Logger, c_sink};
 use super::model::Model;
 use super::resources::path_from_uri;
 use super::snapshot::Snapshot;
-use super::state::{self, Interface, Mask};
+use super::state::{self, Interface, Mask, StateBit};
 use super::variables::{Type, Value};
 use std::ffi::{CStr, c_char, c_int};
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -48,38 +48,80 @@ pub unsafe fn call<M: Model>(
     let Some(inst) = (unsafe { (c as *mut Instance<M>).as_mut() }) else {
         return Status::Error as c_int;
     };
-    if !allowed.serves(inst.interface) {
-        inst.log.error(&format!(
+    guarded(inst, function, allowed, f)
+}
+
+/// What [`guarded`] needs of an instance (of this layer or of FMI 3.0's).
+pub trait Guarded {
+    /// The state-machine state.
+    type State: StateBit + std::fmt::Debug;
+    /// The interface type the instance was instantiated as.
+    fn interface(&self) -> Interface;
+    /// The current state.
+    fn state(&self) -> Self::State;
+    /// The instance's logger.
+    fn logger(&self) -> &Logger;
+    /// Enters the Error state (a computation failed).
+    fn enter_error(&mut self);
+}
+
+impl<M: Model> Guarded for Instance<M> {
+    type State = state::State;
+    fn interface(&self) -> Interface {
+        self.interface
+    }
+    fn state(&self) -> state::State {
+        self.state
+    }
+    fn logger(&self) -> &Logger {
+        &self.log
+    }
+    fn enter_error(&mut self) {
+        self.state = state::State::Error;
+    }
+}
+
+/// Runs `f` on `inst` if the function belongs to the instance's interface type and `allowed` contains its
+/// state (else "Illegal call sequence"), inside `catch_unwind`; logs a failure, and enters the Error state
+/// on a failed computation or a panic. The status as a C int.
+pub fn guarded<I: Guarded>(
+    inst: &mut I,
+    function: &str,
+    allowed: Mask,
+    f: impl FnOnce(&mut I) -> Outcome,
+) -> c_int {
+    if !allowed.serves(inst.interface()) {
+        inst.logger().error(&format!(
             "{function}: Illegal call sequence (not a function of {}, the interface type this instance was \
              instantiated as)",
-            inst.interface.name()
+            inst.interface().name()
         ));
         return Status::Error as c_int;
     }
-    if !allowed.allows(inst.state) {
-        inst.log.error(&format!(
+    if !allowed.allows(inst.state()) {
+        inst.logger().error(&format!(
             "{function}: Illegal call sequence (the instance is in state {:?})",
-            inst.state
+            inst.state()
         ));
         return Status::Error as c_int;
     }
     let status = match catch_unwind(AssertUnwindSafe(|| f(inst))) {
         Ok(Ok(status)) => status,
         Ok(Err(Failure::Rejected(msg))) => {
-            inst.log.error(&format!("{function}: {msg}"));
+            inst.logger().error(&format!("{function}: {msg}"));
             Status::Error
         }
         Ok(Err(Failure::Failed(msg))) => {
-            inst.log.error(&format!("{function}: {msg}"));
-            inst.state = state::State::Error;
+            inst.logger().error(&format!("{function}: {msg}"));
+            inst.enter_error();
             Status::Error
         }
         Err(p) => {
-            inst.log.error(&format!(
+            inst.logger().error(&format!(
                 "{function}: internal error (panic: {})",
                 panic_message(&*p)
             ));
-            inst.state = state::State::Error;
+            inst.enter_error();
             Status::Error
         }
     };
@@ -90,7 +132,7 @@ pub unsafe fn call<M: Model>(
 ///
 /// # Safety
 /// A non-null `ptr` points to `n` valid elements that outlive the returned slice.
-unsafe fn slice<'a, T>(ptr: *const T, n: usize, what: &str) -> Result<&'a [T], Failure> {
+pub unsafe fn slice<'a, T>(ptr: *const T, n: usize, what: &str) -> Result<&'a [T], Failure> {
     if n == 0 {
         Ok(&[])
     } else if ptr.is_null() {
@@ -107,7 +149,7 @@ unsafe fn slice<'a, T>(ptr: *const T, n: usize, what: &str) -> Result<&'a [T], F
 ///
 /// # Safety
 /// As [`slice`], and nothing else accesses the array meanwhile.
-unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize, what: &str) -> Result<&'a mut [T], Failure> {
+pub unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize, what: &str) -> Result<&'a mut [T], Failure> {
     if n == 0 {
         Ok(&mut [])
     } else if ptr.is_null() {
@@ -124,7 +166,7 @@ unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize, what: &str) -> Result<&'a mut 
 ///
 /// # Safety
 /// A non-null `s` is NUL-terminated.
-unsafe fn text<'a>(s: *const c_char, what: &str) -> Result<&'a str, Failure> {
+pub unsafe fn text<'a>(s: *const c_char, what: &str) -> Result<&'a str, Failure> {
     if s.is_null() {
         return Err(Failure::Rejected(format!(
             "argument {what} is a null pointer"
@@ -136,8 +178,10 @@ unsafe fn text<'a>(s: *const c_char, what: &str) -> Result<&'a str, Failure> {
         .map_err(|_| Failure::Rejected(format!("argument {what} is not valid UTF-8")))
 }
 
-/// A non-null pointer for writing one result.
-fn out<'a, T>(ptr: *mut T, what: &str) -> Result<&'a mut T, Failure> {
+/// A non-null pointer for writing one result (the importer passes a valid pointer or null, as FMI
+/// requires of every output argument).
+#[allow(clippy::not_unsafe_ptr_arg_deref)]
+pub fn out<'a, T>(ptr: *mut T, what: &str) -> Result<&'a mut T, Failure> {
     // SAFETY: the importer passes a valid pointer or null; null is rejected.
     unsafe { ptr.as_mut() }
         .ok_or_else(|| Failure::Rejected(format!("argument {what} is a null pointer")))
@@ -419,10 +463,10 @@ pub unsafe fn get_fmu_state<M: Model>(
 /// Puts `s` into `*slot`: into the snapshot there if `*slot` is a live handle (`fmi2GetFMUstate` with a
 /// previous state), else into a new, registered snapshot (a null or foreign `*slot` is never written
 /// through).
-fn store_snapshot<S>(slot: &mut Fmi2FmuState, s: Snapshot<S>) {
-    let existing = *slot as *mut Snapshot<S>;
+pub fn store_snapshot<T>(slot: &mut Fmi2FmuState, s: T) {
+    let existing = *slot as *mut T;
     if handles::is_live(existing) {
-        // SAFETY: a live handle is a snapshot of type `S` allocated by this function and not yet freed.
+        // SAFETY: a live handle is a snapshot of type `T` allocated by this function and not yet freed.
         unsafe { *existing = s };
     } else {
         let new = Box::into_raw(Box::new(s));

@@ -20,7 +20,7 @@ use super::variables::{Causality, Kind, Variability, Variable};
 use std::fmt::Write;
 
 /// XML-escapes text for attribute values.
-fn esc(s: &str) -> String {
+pub fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
@@ -28,7 +28,7 @@ fn esc(s: &str) -> String {
 }
 
 /// A Real as XML text: shortest round-trip form (`{:?}` of f64 is exact and locale-free).
-fn real(x: f64) -> String {
+pub fn real(x: f64) -> String {
     format!("{x:?}")
 }
 
@@ -100,6 +100,57 @@ fn variable_xml(out: &mut String, v: &Variable, display_unit: Option<&str>) {
     let _ = writeln!(out, "    </ScalarVariable>");
 }
 
+/// `<UnitDefinitions>` (the same elements in FMI 2.0 and 3.0).
+pub fn unit_definitions(x: &mut String, info: &ModelInfo) {
+    let _ = writeln!(x, "  <UnitDefinitions>");
+    for u in info.units {
+        let exps = [("kg", u.kg), ("m", u.m), ("s", u.s), ("K", u.k)]
+            .iter()
+            .filter(|(_, e)| *e != 0)
+            .map(|(n, e)| format!(" {n}=\"{e}\""))
+            .collect::<String>();
+        let _ = writeln!(x, "    <Unit name=\"{}\">", esc(u.name));
+        let _ = writeln!(x, "      <BaseUnit{exps}/>");
+        for d in u.display {
+            let offset = if d.offset == 0.0 {
+                String::new()
+            } else {
+                format!(" offset=\"{}\"", real(d.offset))
+            };
+            let _ = writeln!(
+                x,
+                "      <DisplayUnit name=\"{}\" factor=\"{}\"{offset}/>",
+                esc(d.name),
+                real(d.factor)
+            );
+        }
+        let _ = writeln!(x, "    </Unit>");
+    }
+    let _ = writeln!(x, "  </UnitDefinitions>");
+}
+
+/// `<LogCategories>` and `<DefaultExperiment>` (the same elements in FMI 2.0 and 3.0); `statuses` names the
+/// status values in the categories' descriptions (`fmi2`: fmi2Warning, `fmi3`: fmi3Warning).
+pub fn categories_and_experiment(x: &mut String, info: &ModelInfo, statuses: &str) {
+    let _ = writeln!(x, "  <LogCategories>");
+    for (name, description) in CATEGORIES {
+        let _ = writeln!(
+            x,
+            "    <Category name=\"{name}\" description=\"{}\"/>",
+            esc(&description.replace("fmi2", statuses))
+        );
+    }
+    let _ = writeln!(x, "  </LogCategories>");
+    let e = info.default_experiment;
+    let _ = writeln!(
+        x,
+        "  <DefaultExperiment startTime=\"{}\" stopTime=\"{}\" stepSize=\"{}\"/>",
+        real(e.start_time),
+        real(e.stop_time),
+        real(e.step_size)
+    );
+}
+
 /// The document with `guid` in the `guid` attribute.
 fn document(info: &ModelInfo, guid: &str) -> String {
     let mut x = String::new();
@@ -135,48 +186,8 @@ fn document(info: &ModelInfo, guid: &str) -> String {
          canGetAndSetFMUstate=\"true\" canSerializeFMUstate=\"true\" providesDirectionalDerivative=\"true\"/>",
         esc(info.model_identifier)
     );
-    let _ = writeln!(x, "  <UnitDefinitions>");
-    for u in info.units {
-        let exps = [("kg", u.kg), ("m", u.m), ("s", u.s), ("K", u.k)]
-            .iter()
-            .filter(|(_, e)| *e != 0)
-            .map(|(n, e)| format!(" {n}=\"{e}\""))
-            .collect::<String>();
-        let _ = writeln!(x, "    <Unit name=\"{}\">", esc(u.name));
-        let _ = writeln!(x, "      <BaseUnit{exps}/>");
-        for d in u.display {
-            let offset = if d.offset == 0.0 {
-                String::new()
-            } else {
-                format!(" offset=\"{}\"", real(d.offset))
-            };
-            let _ = writeln!(
-                x,
-                "      <DisplayUnit name=\"{}\" factor=\"{}\"{offset}/>",
-                esc(d.name),
-                real(d.factor)
-            );
-        }
-        let _ = writeln!(x, "    </Unit>");
-    }
-    let _ = writeln!(x, "  </UnitDefinitions>");
-    let _ = writeln!(x, "  <LogCategories>");
-    for (name, description) in CATEGORIES {
-        let _ = writeln!(
-            x,
-            "    <Category name=\"{name}\" description=\"{}\"/>",
-            esc(description)
-        );
-    }
-    let _ = writeln!(x, "  </LogCategories>");
-    let e = info.default_experiment;
-    let _ = writeln!(
-        x,
-        "  <DefaultExperiment startTime=\"{}\" stopTime=\"{}\" stepSize=\"{}\"/>",
-        real(e.start_time),
-        real(e.stop_time),
-        real(e.step_size)
-    );
+    unit_definitions(&mut x, info);
+    categories_and_experiment(&mut x, info, "fmi2");
     let _ = writeln!(x, "  <ModelVariables>");
     for (i, v) in info.variables.iter().enumerate() {
         let _ = writeln!(x, "    <!-- index {} -->", i + 1);
@@ -217,7 +228,11 @@ fn document(info: &ModelInfo, guid: &str) -> String {
 /// The GUID: a deterministic UUID-shaped hash of the model description (which includes the model version
 /// and every variable), so that any change of the interface changes the GUID.
 pub fn guid(info: &ModelInfo) -> String {
-    let body = document(info, "");
+    uuid_of(&document(info, ""))
+}
+
+/// A deterministic UUID-shaped hash of a text (two chained FNV-1a 64 hashes).
+pub fn uuid_of(body: &str) -> String {
     let h1 = fnv1a64(body.as_bytes());
     let h2 = fnv1a64(format!("{h1:016x}{body}").as_bytes());
     let hex = format!("{h1:016x}{h2:016x}");

@@ -72,6 +72,24 @@ pub fn to_c_string(text: &str) -> CString {
     CString::new(text.replace('\0', "")).expect("NUL bytes were removed")
 }
 
+/// A kept message: status, category, text.
+pub type Message = (Status, String, String);
+
+/// The categories a logger passes on (see [`Logger::keeping`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Categories([bool; 4]);
+
+/// The messages a [`Logger::keeping`] kept.
+#[derive(Default, Clone)]
+pub struct Kept(std::rc::Rc<std::cell::RefCell<Vec<Message>>>);
+
+impl Kept {
+    /// The messages kept so far, which are forgotten here.
+    pub fn take(&self) -> Vec<Message> {
+        std::mem::take(&mut self.0.borrow_mut())
+    }
+}
+
 /// The logging state of one instance.
 pub struct Logger {
     sink: Option<Sink>,
@@ -115,6 +133,40 @@ impl Logger {
             && (self.enabled[cat] || self.enabled[ALL])
         {
             sink(status, CATEGORIES[cat].0, &message.replace('#', "##"));
+        }
+    }
+
+    /// A logger with this one's categories that keeps its messages instead of passing them on: made for a
+    /// computation on another thread (a sink is not sent between threads), where the messages are taken
+    /// with [`Kept::take`] and passed on later by [`Logger::forward`].
+    pub fn keeping(enabled: Categories) -> (Logger, Kept) {
+        let kept = Kept::default();
+        let k = kept.clone();
+        let sink: Sink = Box::new(move |status, category, message| {
+            k.0.borrow_mut()
+                .push((status, category.to_string(), message.to_string()))
+        });
+        (
+            Logger {
+                sink: Some(sink),
+                enabled: enabled.0,
+            },
+            kept,
+        )
+    }
+
+    /// The categories switched on, for [`Logger::keeping`].
+    pub fn categories(&self) -> Categories {
+        Categories(self.enabled)
+    }
+
+    /// Passes on messages a [`Logger::keeping`] kept (already filtered and escaped), each prefixed by
+    /// `prefix`.
+    pub fn forward(&self, messages: &[Message], prefix: &str) {
+        if let Some(sink) = &self.sink {
+            for (status, category, message) in messages {
+                sink(*status, category, &format!("{prefix}{message}"));
+            }
         }
     }
 

@@ -73,34 +73,85 @@ pub fn put_f64s(out: &mut Vec<u8>, xs: &[f64]) {
     }
 }
 
-fn put_str(out: &mut Vec<u8>, s: &str) {
+/// Appends a string (u32 length + UTF-8).
+pub fn put_str(out: &mut Vec<u8>, s: &str) {
     put_u32(out, s.len() as u32);
     out.extend_from_slice(s.as_bytes());
+}
+
+/// Appends the values of all variables: their count u32, then per variable in table order Real f64 |
+/// Integer i32 | Boolean u8 | String (u32 length + UTF-8).
+pub fn put_values(out: &mut Vec<u8>, values: &Values) {
+    out.extend_from_slice(&(values.list().len() as u32).to_le_bytes());
+    for v in values.list() {
+        match v {
+            Value::Real(x) => out.extend_from_slice(&x.to_le_bytes()),
+            Value::Integer(x) => out.extend_from_slice(&x.to_le_bytes()),
+            Value::Boolean(x) => out.push(u8::from(*x)),
+            Value::String(s) => put_str(out, s),
+        }
+    }
+}
+
+/// The start of a serialized FMU state: `magic`, `version` u32, the model's identity `id` (u32 length +
+/// UTF-8).
+pub fn begin(magic: &[u8; 8], version: u32, id: &str) -> Vec<u8> {
+    let mut out = Vec::with_capacity(256);
+    out.extend_from_slice(magic);
+    out.extend_from_slice(&version.to_le_bytes());
+    put_str(&mut out, id);
+    out
+}
+
+/// A serialized FMU state begun by [`begin`], finished with the FNV-1a 64 checksum of its bytes (u64).
+pub fn seal(mut out: Vec<u8>) -> Vec<u8> {
+    let sum = fnv1a64(&out);
+    out.extend_from_slice(&sum.to_le_bytes());
+    out
+}
+
+/// A reader of the fields after the identity of a serialized FMU state, once its header (`magic`), checksum,
+/// format `version` and identity (`id`, named `id_name` in the message) are checked.
+pub fn open<'a>(
+    bytes: &'a [u8],
+    magic: &[u8; 8],
+    version: u32,
+    id: &str,
+    id_name: &str,
+) -> Result<Reader<'a>, String> {
+    if bytes.len() < magic.len() + 8 || &bytes[..magic.len()] != magic {
+        return Err("not a serialized FMU state of this FMU (bad header)".into());
+    }
+    let (body, sum) = bytes.split_at(bytes.len() - 8);
+    if fnv1a64(body).to_le_bytes() != sum {
+        return Err("serialized FMU state is corrupt (checksum mismatch)".into());
+    }
+    let mut r = Reader::new(&body[magic.len()..]);
+    let theirs = r.u32()?;
+    if theirs != version {
+        return Err(format!(
+            "serialized FMU state has format version {theirs}, expected {version}"
+        ));
+    }
+    let their_id = r.string()?;
+    if their_id != id {
+        return Err(format!(
+            "serialized FMU state belongs to another FMU ({id_name} {their_id})"
+        ));
+    }
+    Ok(r)
 }
 
 impl<S: ModelState> Snapshot<S> {
     /// The serialized bytes; `guid` identifies the model.
     pub fn to_bytes(&self, guid: &str) -> Vec<u8> {
-        let mut out = Vec::with_capacity(256);
-        out.extend_from_slice(MAGIC);
-        out.extend_from_slice(&VERSION.to_le_bytes());
-        put_str(&mut out, guid);
+        let mut out = begin(MAGIC, VERSION, guid);
         out.extend_from_slice(&(self.state as u16).to_le_bytes());
         out.extend_from_slice(&self.time.to_le_bytes());
         out.push(u8::from(self.stale));
-        out.extend_from_slice(&(self.values.list().len() as u32).to_le_bytes());
-        for v in self.values.list() {
-            match v {
-                Value::Real(x) => out.extend_from_slice(&x.to_le_bytes()),
-                Value::Integer(x) => out.extend_from_slice(&x.to_le_bytes()),
-                Value::Boolean(x) => out.push(u8::from(*x)),
-                Value::String(s) => put_str(&mut out, s),
-            }
-        }
+        put_values(&mut out, &self.values);
         self.model.write(&mut out);
-        let sum = fnv1a64(&out);
-        out.extend_from_slice(&sum.to_le_bytes());
-        out
+        seal(out)
     }
 
     /// Reads serialized bytes written by [`Snapshot::to_bytes`] for the same model.
@@ -109,26 +160,7 @@ impl<S: ModelState> Snapshot<S> {
         guid: &str,
         table: &'static [Variable],
     ) -> Result<Snapshot<S>, String> {
-        if bytes.len() < MAGIC.len() + 8 || &bytes[..MAGIC.len()] != MAGIC {
-            return Err("not a serialized FMU state of this FMU (bad header)".into());
-        }
-        let (body, sum) = bytes.split_at(bytes.len() - 8);
-        if fnv1a64(body).to_le_bytes() != sum {
-            return Err("serialized FMU state is corrupt (checksum mismatch)".into());
-        }
-        let mut r = Reader::new(&body[MAGIC.len()..]);
-        let version = u32::from_le_bytes(r.array()?);
-        if version != VERSION {
-            return Err(format!(
-                "serialized FMU state has format version {version}, expected {VERSION}"
-            ));
-        }
-        let their_guid = r.string()?;
-        if their_guid != guid {
-            return Err(format!(
-                "serialized FMU state belongs to another FMU (GUID {their_guid})"
-            ));
-        }
+        let mut r = open(bytes, MAGIC, VERSION, guid, "GUID")?;
         let code = u16::from_le_bytes(r.array()?);
         let state = State::ALL
             .into_iter()
@@ -136,36 +168,11 @@ impl<S: ModelState> Snapshot<S> {
             .ok_or_else(|| format!("serialized FMU state has an unknown state code {code}"))?;
         let time = f64::from_le_bytes(r.array()?);
         let stale = r.flag()?;
-        let count = u32::from_le_bytes(r.array()?) as usize;
-        if count != table.len() {
-            return Err(format!(
-                "serialized FMU state has {count} variables, this FMU has {}",
-                table.len()
-            ));
-        }
-        let mut list = Vec::with_capacity(count);
-        for var in table {
-            list.push(match var.ty() {
-                Type::Real => {
-                    let x = f64::from_le_bytes(r.array()?);
-                    if !x.is_finite() {
-                        return Err(format!(
-                            "serialized FMU state has a non-finite value of {}",
-                            var.name
-                        ));
-                    }
-                    Value::Real(x)
-                }
-                Type::Integer => Value::Integer(i32::from_le_bytes(r.array()?)),
-                Type::Boolean => Value::Boolean(r.flag()?),
-                Type::String => Value::String(r.string()?),
-            });
-        }
+        let values = r.values(table)?;
         let model = S::read(&mut r)?;
         if r.pos != r.bytes.len() || !time.is_finite() {
             return Err("serialized FMU state is corrupt (trailing bytes or bad time)".into());
         }
-        let values = Values::from_list(table, list).expect("types follow the table");
         Ok(Snapshot {
             values,
             stale,
@@ -186,6 +193,42 @@ impl<'a> Reader<'a> {
     /// A reader of `bytes` from their start.
     pub fn new(bytes: &'a [u8]) -> Reader<'a> {
         Reader { bytes, pos: 0 }
+    }
+
+    /// The values of all variables of `table`, as [`put_values`] wrote them (count, types and finite Reals
+    /// checked).
+    pub fn values(&mut self, table: &'static [Variable]) -> Result<Values, String> {
+        let count = u32::from_le_bytes(self.array()?) as usize;
+        if count != table.len() {
+            return Err(format!(
+                "serialized FMU state has {count} variables, this FMU has {}",
+                table.len()
+            ));
+        }
+        let mut list = Vec::with_capacity(count);
+        for var in table {
+            list.push(match var.ty() {
+                Type::Real => {
+                    let x = f64::from_le_bytes(self.array()?);
+                    if !x.is_finite() {
+                        return Err(format!(
+                            "serialized FMU state has a non-finite value of {}",
+                            var.name
+                        ));
+                    }
+                    Value::Real(x)
+                }
+                Type::Integer => Value::Integer(i32::from_le_bytes(self.array()?)),
+                Type::Boolean => Value::Boolean(self.flag()?),
+                Type::String => Value::String(self.string()?),
+            });
+        }
+        Ok(Values::from_list(table, list).expect("types follow the table"))
+    }
+
+    /// Whether every byte was read.
+    pub fn at_end(&self) -> bool {
+        self.pos == self.bytes.len()
     }
 
     /// The next u32.
@@ -220,7 +263,8 @@ impl<'a> Reader<'a> {
         Ok(s)
     }
 
-    fn array<const N: usize>(&mut self) -> Result<[u8; N], String> {
+    /// The next `N` bytes.
+    pub fn array<const N: usize>(&mut self) -> Result<[u8; N], String> {
         Ok(self.take(N)?.try_into().expect("length checked"))
     }
 
@@ -235,7 +279,8 @@ impl<'a> Reader<'a> {
         }
     }
 
-    fn string(&mut self) -> Result<String, String> {
+    /// The next string (u32 length + UTF-8).
+    pub fn string(&mut self) -> Result<String, String> {
         let n = u32::from_le_bytes(self.array()?) as usize;
         let s = self.take(n)?;
         String::from_utf8(s.to_vec()).map_err(|_| "serialized FMU state has invalid UTF-8".into())

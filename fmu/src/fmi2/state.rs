@@ -78,6 +78,19 @@ impl State {
     }
 }
 
+/// A state of a state machine whose states are one bit each (those of FMI 2.0 here, of FMI 3.0 in
+/// [`crate::fmi3::state`]), so that a [`Mask`] holds a set of them.
+pub trait StateBit: Copy {
+    /// The state's bit.
+    fn bit(self) -> u16;
+}
+
+impl StateBit for State {
+    fn bit(self) -> u16 {
+        self as u16
+    }
+}
+
 /// A set of states, and the interface types a function belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Mask {
@@ -94,14 +107,19 @@ impl Mask {
             bits |= states[i] as u16;
             i += 1;
         }
+        Mask::of_bits(bits)
+    }
+
+    /// The states of the bits `states`, for functions of both interface types.
+    pub const fn of_bits(states: u16) -> Mask {
         Mask {
-            states: bits,
+            states,
             interfaces: Interface::ModelExchange as u8 | Interface::CoSimulation as u8,
         }
     }
 
     /// The same states for a function of `interface` only.
-    const fn only(self, interface: Interface) -> Mask {
+    pub const fn only(self, interface: Interface) -> Mask {
         Mask {
             states: self.states,
             interfaces: interface as u8,
@@ -109,8 +127,8 @@ impl Mask {
     }
 
     /// Whether `state` is in the set.
-    pub fn allows(self, state: State) -> bool {
-        self.states & state as u16 != 0
+    pub fn allows(self, state: impl StateBit) -> bool {
+        self.states & state.bit() != 0
     }
 
     /// Whether the function belongs to `interface`.
