@@ -39,7 +39,7 @@ pub struct Instance<M: ArrayModel> {
     pub log: Logger,
     elements: Vec<Element<M>>,
     threads: u64,
-    pool: Option<(usize, rayon::ThreadPool)>,
+    pool: Option<Workers>,
     time: f64,
     resources: Option<PathBuf>,
     strings: Vec<CString>,
@@ -48,6 +48,65 @@ pub struct Instance<M: ArrayModel> {
 /// The states a snapshot may hold, with their codes in the serialized form.
 fn state_code(s: State) -> u16 {
     s as u16
+}
+
+/// The threads of an instance: a rayon pool whose threads the instance spawns itself and joins when it
+/// drops the pool, so that no thread of the library runs after `fmi3FreeInstance` returns (a host may unload
+/// the library right after it; rayon's own threads end only some time after their pool is dropped).
+struct Workers {
+    /// The pool's thread count.
+    count: usize,
+    /// The pool (None only while dropping).
+    pool: Option<rayon::ThreadPool>,
+    /// The pool's threads.
+    threads: Vec<std::thread::JoinHandle<()>>,
+}
+
+impl Workers {
+    /// Starts `count` threads.
+    fn start(count: usize) -> Result<Self, String> {
+        let mut threads = Vec::with_capacity(count);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(count)
+            .spawn_handler(|thread| {
+                threads.push(std::thread::Builder::new().spawn(|| thread.run())?);
+                Ok(())
+            })
+            .build()
+            .map_err(|e| format!("cannot start {count} threads: {e}"));
+        match pool {
+            Ok(pool) => Ok(Self {
+                count,
+                pool: Some(pool),
+                threads,
+            }),
+            Err(e) => {
+                // the threads started before the failure end with the builder's registry
+                for t in threads {
+                    let _ = t.join();
+                }
+                Err(e)
+            }
+        }
+    }
+
+    /// Runs `f` in the pool.
+    fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
+        self.pool
+            .as_ref()
+            .expect("present until dropped")
+            .install(f)
+    }
+}
+
+impl Drop for Workers {
+    /// Ends the pool and waits until each of its threads has finished.
+    fn drop(&mut self) {
+        drop(self.pool.take());
+        for t in self.threads.drain(..) {
+            let _ = t.join();
+        }
+    }
 }
 
 impl<M: ArrayModel> Instance<M> {
@@ -145,14 +204,12 @@ impl<M: ArrayModel> Instance<M> {
         let results: Vec<(Result<Status, String>, Vec<Message>)> = if workers <= 1 {
             self.elements.iter_mut().map(run).collect()
         } else {
-            if self.pool.as_ref().is_none_or(|(n, _)| *n != workers) {
-                let pool = rayon::ThreadPoolBuilder::new()
-                    .num_threads(workers)
-                    .build()
-                    .map_err(|e| Failure::Failed(format!("cannot start {workers} threads: {e}")))?;
-                self.pool = Some((workers, pool));
+            if self.pool.as_ref().is_none_or(|p| p.count != workers) {
+                // the old threads end (joined) before the new ones start
+                self.pool = None;
+                self.pool = Some(Workers::start(workers).map_err(Failure::Failed)?);
             }
-            let (_, pool) = self.pool.as_ref().expect("built above");
+            let pool = self.pool.as_ref().expect("started above");
             let elements = &mut self.elements;
             pool.install(|| elements.par_iter_mut().map(run).collect())
         };
@@ -777,5 +834,25 @@ impl<S: ModelState> Snapshot<S> {
             threads,
             elements,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Workers;
+
+    /// The pool's threads have ended when the pool is dropped: none of them is still a thread of the
+    /// process (Linux: /proc/self/task lists them).
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn dropping_the_workers_ends_their_threads() {
+        let workers = Workers::start(3).unwrap();
+        let tasks = workers
+            .install(|| rayon::broadcast(|_| std::fs::read_link("/proc/thread-self").unwrap()));
+        assert_eq!(tasks.len(), 3);
+        let task_dir = |t: &std::path::PathBuf| std::path::Path::new("/proc").join(t);
+        assert!(tasks.iter().all(|t| task_dir(t).exists()), "{tasks:?}");
+        drop(workers);
+        assert!(tasks.iter().all(|t| !task_dir(t).exists()), "{tasks:?}");
     }
 }
