@@ -14,9 +14,9 @@ use crate::fmi2::instance::{Failure, Outcome};
 use crate::fmi2::logging::{Logger, Message};
 use crate::fmi2::snapshot::{ModelState, begin, open, put_values, seal};
 use crate::fmi2::variables::{Causality, Type, Value, Values};
-use rayon::prelude::*;
 use std::ffi::CString;
 use std::path::PathBuf;
+use std::sync::{Mutex, PoisonError};
 
 /// One element: its values, whether its outputs are stale, and its model.
 pub struct Element<M> {
@@ -39,7 +39,6 @@ pub struct Instance<M: ArrayModel> {
     pub log: Logger,
     elements: Vec<Element<M>>,
     threads: u64,
-    pool: Option<Workers>,
     time: f64,
     resources: Option<PathBuf>,
     strings: Vec<CString>,
@@ -50,65 +49,8 @@ fn state_code(s: State) -> u16 {
     s as u16
 }
 
-/// The threads of an instance: a rayon pool whose threads the instance spawns itself and joins when it
-/// drops the pool, so that no thread of the library runs after `fmi3FreeInstance` returns (a host may unload
-/// the library right after it; rayon's own threads end only some time after their pool is dropped).
-struct Workers {
-    /// The pool's thread count.
-    count: usize,
-    /// The pool (None only while dropping).
-    pool: Option<rayon::ThreadPool>,
-    /// The pool's threads.
-    threads: Vec<std::thread::JoinHandle<()>>,
-}
-
-impl Workers {
-    /// Starts `count` threads.
-    fn start(count: usize) -> Result<Self, String> {
-        let mut threads = Vec::with_capacity(count);
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(count)
-            .spawn_handler(|thread| {
-                threads.push(std::thread::Builder::new().spawn(|| thread.run())?);
-                Ok(())
-            })
-            .build()
-            .map_err(|e| format!("cannot start {count} threads: {e}"));
-        match pool {
-            Ok(pool) => Ok(Self {
-                count,
-                pool: Some(pool),
-                threads,
-            }),
-            Err(e) => {
-                // the threads started before the failure end with the builder's registry
-                for t in threads {
-                    let _ = t.join();
-                }
-                Err(e)
-            }
-        }
-    }
-
-    /// Runs `f` in the pool.
-    fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
-        self.pool
-            .as_ref()
-            .expect("present until dropped")
-            .install(f)
-    }
-}
-
-impl Drop for Workers {
-    /// Ends the pool and waits until each of its threads has finished.
-    fn drop(&mut self) {
-        drop(self.pool.take());
-        for t in self.threads.drain(..) {
-            let _ = t.join();
-        }
-    }
-}
-
+/// One element's evaluation: its status and the log messages it kept.
+type Evaluated = (Result<Status, String>, Vec<Message>);
 impl<M: ArrayModel> Instance<M> {
     /// A new instance of `interface` in the Instantiated state: one element, all variables at their start
     /// values.
@@ -127,7 +69,6 @@ impl<M: ArrayModel> Instance<M> {
             log,
             elements: Vec::new(),
             threads: arrays.threads.start,
-            pool: None,
             time: 0.0,
             resources,
             strings: Vec::new(),
@@ -195,23 +136,46 @@ impl<M: ArrayModel> Instance<M> {
         f: impl Fn(&mut Element<M>, &Logger) -> Result<Status, String> + Sync,
     ) -> Outcome {
         let categories = self.log.categories();
-        let run = |e: &mut Element<M>| -> (Result<Status, String>, Vec<Message>) {
+        let run = |e: &mut Element<M>| -> Evaluated {
             let (log, kept) = Logger::keeping(categories);
             let result = f(e, &log);
             (result, kept.take())
         };
         let workers = self.worker_count();
-        let results: Vec<(Result<Status, String>, Vec<Message>)> = if workers <= 1 {
+        let results: Vec<Evaluated> = if workers <= 1 {
             self.elements.iter_mut().map(run).collect()
         } else {
-            if self.pool.as_ref().is_none_or(|p| p.count != workers) {
-                // the old threads end (joined) before the new ones start
-                self.pool = None;
-                self.pool = Some(Workers::start(workers).map_err(Failure::Failed)?);
+            // each thread takes the next element not yet taken (a step's elements differ widely in cost:
+            // table, exact, lifted); scoped threads end with the step, so none outlives the call
+            let count = self.elements.len();
+            let next = Mutex::new(self.elements.iter_mut().enumerate());
+            let take = || next.lock().unwrap_or_else(PoisonError::into_inner).next();
+            let mut results: Vec<Option<Evaluated>> = (0..count).map(|_| None).collect();
+            let done: Vec<Vec<(usize, Evaluated)>> = std::thread::scope(|scope| {
+                let work = || {
+                    let mut mine = Vec::new();
+                    while let Some((k, e)) = take() {
+                        mine.push((k, run(e)));
+                    }
+                    mine
+                };
+                let helpers: Vec<_> = (1..workers).map(|_| scope.spawn(work)).collect();
+                let mut all = vec![work()];
+                for h in helpers {
+                    match h.join() {
+                        Ok(r) => all.push(r),
+                        Err(panic) => std::panic::resume_unwind(panic),
+                    }
+                }
+                all
+            });
+            for (k, r) in done.into_iter().flatten() {
+                results[k] = Some(r);
             }
-            let pool = self.pool.as_ref().expect("started above");
-            let elements = &mut self.elements;
-            pool.install(|| elements.par_iter_mut().map(run).collect())
+            results
+                .into_iter()
+                .map(|r| r.expect("every element taken"))
+                .collect()
         };
         let element = M::arrays().element;
         let mut status = Status::Ok;
@@ -834,25 +798,5 @@ impl<S: ModelState> Snapshot<S> {
             threads,
             elements,
         })
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::Workers;
-
-    /// The pool's threads have ended when the pool is dropped: none of them is still a thread of the
-    /// process (Linux: /proc/self/task lists them).
-    #[cfg(target_os = "linux")]
-    #[test]
-    fn dropping_the_workers_ends_their_threads() {
-        let workers = Workers::start(3).unwrap();
-        let tasks = workers
-            .install(|| rayon::broadcast(|_| std::fs::read_link("/proc/thread-self").unwrap()));
-        assert_eq!(tasks.len(), 3);
-        let task_dir = |t: &std::path::PathBuf| std::path::Path::new("/proc").join(t);
-        assert!(tasks.iter().all(|t| task_dir(t).exists()), "{tasks:?}");
-        drop(workers);
-        assert!(tasks.iter().all(|t| !task_dir(t).exists()), "{tasks:?}");
     }
 }
