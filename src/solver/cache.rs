@@ -18,6 +18,7 @@ use crate::microcontact::Microcontact;
 use crate::params::{Geometry, Material, Roughness};
 use crate::tangential::exact::SteadyRolling;
 use crate::thermal::HeatModel;
+use crate::thermal::lattice::RecentNodes;
 use std::sync::{Arc, Mutex, PoisonError};
 
 use super::setup::ContactShape;
@@ -117,6 +118,8 @@ struct Entries {
     /// How many set-ups were taken from the cache (shape, microcontact, heat model and steady-rolling
     /// operator counted alike).
     hits: usize,
+    /// The lattice nodes of the last heat models made (their next one mostly needs the same).
+    nodes: RecentNodes,
 }
 
 /// The reusable set-up of one model's solves (see the module documentation). Shared between threads
@@ -186,7 +189,13 @@ impl SetupCache {
             self,
             |e| &mut e.heat,
             HeatKey::new(grid, v_wheel, v_rail, material),
-            || HeatModel::interpolated(grid, v_wheel, v_rail, material).map(Arc::new),
+            || {
+                let mut recent = std::mem::take(&mut self.lock().nodes);
+                let model =
+                    HeatModel::interpolated_with(grid, v_wheel, v_rail, material, &mut recent);
+                self.lock().nodes = recent;
+                model.map(Arc::new)
+            },
         )
     }
 

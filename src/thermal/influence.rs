@@ -411,7 +411,7 @@ impl InfluenceTable {
 
     /// A table of given coefficients G(Δi, Δj) at index (Δi + nx − 1) + (2nx − 1)·Δj, Δj ≥ 0
     /// [K·m²/W], with their largest error estimate `error` [K·m²/W] (an interpolated table,
-    /// [`super::lattice::interpolated_table`]: no quadrature panel of its own).
+    /// [`super::lattice::interpolated_table_with`]: no quadrature panel of its own).
     pub(super) fn from_values(nx: usize, ny: usize, values: Vec<f64>, error: f64) -> Result<Self> {
         if nx == 0 || ny == 0 || values.len() != (2 * nx - 1) * ny {
             return Err(Error::Numerical {

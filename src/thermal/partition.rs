@@ -10,7 +10,7 @@
 use super::convolution::{OffsetKernel, StripLayout, StripSolver};
 use super::influence::{InfluenceTable, MovingHalfSpace};
 use super::krylov::{GmresSettings, gmres};
-use super::lattice::interpolated_table;
+use super::lattice::{RecentNodes, interpolated_table_with};
 use crate::contact::ContactGrid;
 use crate::error::{Error, Result, Stage};
 use crate::params::Material;
@@ -80,7 +80,7 @@ impl HeatModel {
     }
 
     /// As [`HeatModel::new`] with the influence coefficients interpolated in the lattice of unit-cell
-    /// tables ([`interpolated_table`], docs/model.md §7.2): each within
+    /// tables ([`interpolated_table_with`], docs/model.md §7.2): each within
     /// [`super::lattice::INTERPOLATION_ERROR`] of the coefficient scale of the direct ones, and cheap
     /// whenever the process has made the lattice nodes around this grid's cell Péclet numbers and aspect
     /// before (the coupled solver's heat model).
@@ -90,8 +90,20 @@ impl HeatModel {
         v_rail: f64,
         material: &Material,
     ) -> Result<Self> {
+        Self::interpolated_with(grid, v_wheel, v_rail, material, &mut RecentNodes::default())
+    }
+
+    /// [`Self::interpolated`] with the lattice nodes of `recent` (kept by the caller between heat models:
+    /// the same model, bit for bit).
+    pub fn interpolated_with(
+        grid: &ContactGrid,
+        v_wheel: f64,
+        v_rail: f64,
+        material: &Material,
+        recent: &mut RecentNodes,
+    ) -> Result<Self> {
         Self::with_tables(grid, v_wheel, v_rail, material, |body, grid| {
-            interpolated_table(body, material, grid.nx, grid.ny, grid.hx, grid.hy)
+            interpolated_table_with(body, material, grid.nx, grid.ny, grid.hx, grid.hy, recent)
         })
     }
 
@@ -101,7 +113,7 @@ impl HeatModel {
         v_wheel: f64,
         v_rail: f64,
         material: &Material,
-        table: impl Fn(&MovingHalfSpace, &ContactGrid) -> Result<InfluenceTable>,
+        mut table: impl FnMut(&MovingHalfSpace, &ContactGrid) -> Result<InfluenceTable>,
     ) -> Result<Self> {
         if grid.is_empty() {
             return Err(Error::Numerical {
