@@ -433,9 +433,13 @@ impl WheelRailModel {
         match values.integer(GRID_SIZE) {
             AUTOMATIC_GRID_SIZE => {}
             n => {
-                let n = usize::try_from(n).unwrap_or(1);
+                let cells = usize::try_from(n);
+                let n = *cells.as_ref().unwrap_or(&1);
                 let [nx, ny] = [p.grid.nx, p.grid.ny];
-                if [nx, ny] != [defaults.grid.nx, defaults.grid.ny] && [nx, ny] != [n, n] {
+                if cells.is_ok()
+                    && [nx, ny] != [defaults.grid.nx, defaults.grid.ny]
+                    && [nx, ny] != [n, n]
+                {
                     return Err(format!(
                         "grid_size = {n} differs from parameter_file {file}'s grid {nx} x {ny}: set one of them"
                     ));
