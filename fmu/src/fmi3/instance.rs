@@ -147,11 +147,9 @@ impl<M: ArrayModel> Instance<M> {
         } else {
             // each thread takes the next element not yet taken (a step's elements differ widely in cost:
             // table, exact, lifted); scoped threads end with the step, so none outlives the call
-            let count = self.elements.len();
             let next = Mutex::new(self.elements.iter_mut().enumerate());
             let take = || next.lock().unwrap_or_else(PoisonError::into_inner).next();
-            let mut results: Vec<Option<Evaluated>> = (0..count).map(|_| None).collect();
-            let done: Vec<Vec<(usize, Evaluated)>> = std::thread::scope(|scope| {
+            let mut done: Vec<(usize, Evaluated)> = std::thread::scope(|scope| {
                 let work = || {
                     let mut mine = Vec::new();
                     while let Some((k, e)) = take() {
@@ -160,22 +158,18 @@ impl<M: ArrayModel> Instance<M> {
                     mine
                 };
                 let helpers: Vec<_> = (1..workers).map(|_| scope.spawn(work)).collect();
-                let mut all = vec![work()];
+                let mut all = work();
                 for h in helpers {
                     match h.join() {
-                        Ok(r) => all.push(r),
+                        Ok(r) => all.extend(r),
                         Err(panic) => std::panic::resume_unwind(panic),
                     }
                 }
                 all
             });
-            for (k, r) in done.into_iter().flatten() {
-                results[k] = Some(r);
-            }
-            results
-                .into_iter()
-                .map(|r| r.expect("every element taken"))
-                .collect()
+            // back in element order
+            done.sort_unstable_by_key(|(k, _)| *k);
+            done.into_iter().map(|(_, r)| r).collect()
         };
         let element = M::arrays().element;
         let mut status = Status::Ok;
