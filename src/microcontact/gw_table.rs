@@ -203,11 +203,7 @@ impl Stencil {
     /// `integrals`, bit for bit.
     #[inline]
     pub fn interpolant(&self, h: f64) -> Option<Interpolant> {
-        let (j, t) = locate(h)?;
-        Some(Interpolant {
-            y: self.rows(j),
-            basis: QuinticHermite::at(t),
-        })
+        self.interpolant_reusing(h, &mut None)
     }
 
     /// As [`Self::interpolant`], taking the interval's nodes from `last` when h lies in the interval
