@@ -9,6 +9,7 @@
 
 use super::arrays::{ArrayInfo, ArrayModel, Slot, is_array, slot, type_name};
 use super::state::{self, Interface, State};
+use super::workers::Workers;
 use crate::fmi2::ffi::Status;
 use crate::fmi2::instance::{Failure, Outcome};
 use crate::fmi2::logging::{Logger, Message};
@@ -16,13 +17,19 @@ use crate::fmi2::snapshot::{ModelState, begin, open, put_values, seal};
 use crate::fmi2::variables::{Causality, Type, Value, Values};
 use std::ffi::CString;
 use std::path::PathBuf;
-use std::sync::{Mutex, PoisonError};
+use std::sync::OnceLock;
+use std::time::Instant;
 
 /// One element: its values, whether its outputs are stale, and its model.
 pub struct Element<M> {
     values: Values,
     stale: bool,
     model: M,
+    /// The wall time of its last evaluation of its outputs [s] (the order in which threads take the
+    /// elements).
+    cost: f64,
+    /// The thread that evaluated it last (0: the caller's).
+    thread: usize,
 }
 
 /// An FMI 3.0 instance of `contacts` elements of model `M`.
@@ -42,11 +49,20 @@ pub struct Instance<M: ArrayModel> {
     time: f64,
     resources: Option<PathBuf>,
     strings: Vec<CString>,
+    /// The threads besides the caller's that evaluate the elements, with the number asked for (started at
+    /// the first step that wants them, joined when the instance is dropped).
+    workers: Option<(usize, Workers)>,
 }
 
 /// The states a snapshot may hold, with their codes in the serialized form.
 fn state_code(s: State) -> u16 {
     s as u16
+}
+
+/// The cores this process may use, read once (a read costs about 10 µs on Linux: the cgroup's quota).
+fn available_cores() -> usize {
+    static CORES: OnceLock<usize> = OnceLock::new();
+    *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }
 
 /// One element's evaluation: its status and the log messages it kept.
@@ -72,6 +88,7 @@ impl<M: ArrayModel> Instance<M> {
             time: 0.0,
             resources,
             strings: Vec::new(),
+            workers: None,
         };
         inst.resize(arrays.size.start as usize);
         inst
@@ -115,6 +132,8 @@ impl<M: ArrayModel> Instance<M> {
                 values: template.clone(),
                 stale: true,
                 model: M::new(self.resources.clone()),
+                cost: 0.0,
+                thread: 0,
             });
         }
     }
@@ -122,7 +141,7 @@ impl<M: ArrayModel> Instance<M> {
     /// The threads a step uses: `threads` (0: the cores the process may use), at most one per element.
     fn worker_count(&self) -> usize {
         let wanted = match self.threads {
-            0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+            0 => available_cores(),
             n => n as usize,
         };
         wanted.min(self.elements.len()).max(1)
@@ -138,38 +157,42 @@ impl<M: ArrayModel> Instance<M> {
         let categories = self.log.categories();
         let run = |e: &mut Element<M>| -> Evaluated {
             let (log, kept) = Logger::keeping(categories);
+            let (start, computes) = (Instant::now(), e.stale);
             let result = f(e, &log);
+            if computes {
+                e.cost = start.elapsed().as_secs_f64();
+            }
             (result, kept.take())
         };
         let workers = self.worker_count();
         let results: Vec<Evaluated> = if workers <= 1 {
             self.elements.iter_mut().map(run).collect()
         } else {
-            // each thread takes the next element not yet taken (a step's elements differ widely in cost:
-            // table, exact, lifted); scoped threads end with the step, so none outlives the call
-            let next = Mutex::new(self.elements.iter_mut().enumerate());
-            let take = || next.lock().unwrap_or_else(PoisonError::into_inner).next();
-            let mut done: Vec<(usize, Evaluated)> = std::thread::scope(|scope| {
-                let work = || {
-                    let mut mine = Vec::new();
-                    while let Some((k, e)) = take() {
-                        mine.push((k, run(e)));
-                    }
-                    mine
-                };
-                let helpers: Vec<_> = (1..workers).map(|_| scope.spawn(work)).collect();
-                let mut all = work();
-                for h in helpers {
-                    match h.join() {
-                        Ok(r) => all.extend(r),
-                        Err(panic) => std::panic::resume_unwind(panic),
-                    }
-                }
-                all
+            let helpers = workers - 1;
+            if self.workers.as_ref().is_none_or(|(n, _)| *n != helpers) {
+                self.workers = Some((helpers, Workers::new(helpers)));
+            }
+            let (_, pool) = self.workers.as_ref().expect("just started");
+            // each thread first takes the elements it evaluated last time (their data are in its caches),
+            // the costliest first (by their last evaluation), then the cheapest left of the others'
+            let threads = pool.threads() + 1;
+            let mut lists = vec![Vec::new(); threads];
+            for (k, e) in self.elements.iter().enumerate() {
+                lists[e.thread.min(threads - 1)].push(k);
+            }
+            for l in &mut lists {
+                l.sort_by(|a, b| self.elements[*b].cost.total_cmp(&self.elements[*a].cost));
+            }
+            let mut slots: Vec<(&mut Element<M>, Option<Evaluated>)> =
+                self.elements.iter_mut().map(|e| (e, None)).collect();
+            pool.each_mut(&mut slots, &lists, |t, (e, r)| {
+                e.thread = t;
+                *r = Some(run(e));
             });
-            // back in element order
-            done.sort_unstable_by_key(|(k, _)| *k);
-            done.into_iter().map(|(_, r)| r).collect()
+            slots
+                .into_iter()
+                .map(|(_, r)| r.expect("every element evaluated"))
+                .collect()
         };
         let element = M::arrays().element;
         let mut status = Status::Ok;
@@ -605,6 +628,8 @@ impl<M: ArrayModel> Instance<M> {
                 values: Values::start(Self::table()),
                 stale: true,
                 model: M::new(self.resources.clone()),
+                cost: 0.0,
+                thread: 0,
             });
         }
         for (e, (values, stale, model)) in self.elements.iter_mut().zip(&s.elements) {

@@ -11,6 +11,7 @@ pub mod description;
 pub mod ffi;
 pub mod instance;
 pub mod state;
+pub mod workers;
 
 #[cfg(test)]
 mod tests;
