@@ -202,8 +202,12 @@ unsafe fn fmi3_instance(threads: u64) -> Fmi3Instance {
     }
 }
 
-fn fmi3_run(t: &Trace, steps: usize, threads: u64) -> (Timing, Record) {
-    let fmu = unsafe { fmi3_instance(threads) };
+/// `vehicles` FMI 3.0 instances of eight contacts on `threads` threads each, stepped in turn with the same
+/// inputs: the time per vehicle step and the record (every vehicle's outputs must be the first's).
+fn fmi3_run(t: &Trace, steps: usize, threads: u64, vehicles: usize) -> (Timing, Record) {
+    let fmus: Vec<_> = (0..vehicles)
+        .map(|_| unsafe { fmi3_instance(threads) })
+        .collect();
     let read: Vec<u32> = READ.iter().map(|i| *i as u32).collect();
     // the inputs as the arrays are serialised: per variable, its value of each contact
     let n = t.vrs.len();
@@ -219,25 +223,35 @@ fn fmi3_run(t: &Trace, steps: usize, threads: u64) -> (Timing, Record) {
                 inputs[j * CONTACTS + k] = *x;
             }
         }
-        unsafe {
-            assert!(fmi3SetFloat64(fmu, t.vrs.as_ptr(), n, inputs.as_ptr(), inputs.len()) <= 1);
-            let [a, b, c] = &mut flags;
-            assert!(fmi3DoStep(fmu, i as f64 * t.step, t.step, true, a, b, c, &mut last) <= 1);
-            assert!(fmi3GetFloat64(fmu, read.as_ptr(), 3, out.as_mut_ptr(), out.len()) <= 1);
-            let vr = EVALUATION_MODE as u32;
-            assert!(fmi3GetInt32(fmu, &vr, 1, modes.as_mut_ptr(), CONTACTS) <= 1);
-        }
-        for k in 0..CONTACTS {
-            record.push([
-                out[k].to_bits(),
-                out[CONTACTS + k].to_bits(),
-                out[2 * CONTACTS + k].to_bits(),
-                modes[k] as u64,
-            ]);
+        for (v, fmu) in fmus.iter().enumerate() {
+            unsafe {
+                assert!(
+                    fmi3SetFloat64(*fmu, t.vrs.as_ptr(), n, inputs.as_ptr(), inputs.len()) <= 1
+                );
+                let [a, b, c] = &mut flags;
+                assert!(fmi3DoStep(*fmu, i as f64 * t.step, t.step, true, a, b, c, &mut last) <= 1);
+                assert!(fmi3GetFloat64(*fmu, read.as_ptr(), 3, out.as_mut_ptr(), out.len()) <= 1);
+                let vr = EVALUATION_MODE as u32;
+                assert!(fmi3GetInt32(*fmu, &vr, 1, modes.as_mut_ptr(), CONTACTS) <= 1);
+            }
+            for k in 0..CONTACTS {
+                let r = [
+                    out[k].to_bits(),
+                    out[CONTACTS + k].to_bits(),
+                    out[2 * CONTACTS + k].to_bits(),
+                    modes[k] as u64,
+                ];
+                match v {
+                    0 => record.push(r),
+                    _ => assert!(record[i * CONTACTS + k] == r, "vehicle {v} differs"),
+                }
+            }
         }
     }
-    let seconds = start.per_step(steps);
-    unsafe { fmi3FreeInstance(fmu) };
+    let seconds = start.per_step(steps * vehicles);
+    for fmu in fmus {
+        unsafe { fmi3FreeInstance(fmu) };
+    }
     (seconds, record)
 }
 
@@ -256,8 +270,9 @@ fn main() {
         "8 FMI 2.0 instances in turn",
         "FMI 3.0, threads 1",
         "FMI 3.0, threads 2",
+        "2 vehicles in turn, threads 2",
     ];
-    let mut times = vec![Vec::new(); 3];
+    let mut times = vec![Vec::new(); names.len()];
     let mut reference: Option<Record> = None;
     let mut per_contact = Vec::new();
     for round in 0..ROUNDS {
@@ -268,7 +283,8 @@ fn main() {
                     per_contact = contacts;
                     (seconds, record)
                 }
-                _ => fmi3_run(&trace, steps, r as u64),
+                3 => fmi3_run(&trace, steps, 2, 2),
+                _ => fmi3_run(&trace, steps, r as u64, 1),
             };
             match &reference {
                 None => reference = Some(record),

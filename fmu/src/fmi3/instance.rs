@@ -9,7 +9,7 @@
 
 use super::arrays::{ArrayInfo, ArrayModel, Slot, is_array, slot, type_name};
 use super::state::{self, Interface, State};
-use super::workers::Workers;
+use super::workers::{self, Lease};
 use crate::fmi2::ffi::Status;
 use crate::fmi2::instance::{Failure, Outcome};
 use crate::fmi2::logging::{Logger, Message};
@@ -49,9 +49,9 @@ pub struct Instance<M: ArrayModel> {
     time: f64,
     resources: Option<PathBuf>,
     strings: Vec<CString>,
-    /// The threads besides the caller's that evaluate the elements, with the number asked for (started at
-    /// the first step that wants them, joined when the instance is dropped).
-    workers: Option<(usize, Workers)>,
+    /// Its claim on the process's worker threads, from the first step that evaluates the elements on
+    /// several threads on.
+    workers: Option<Lease>,
 }
 
 /// The states a snapshot may hold, with their codes in the serialized form.
@@ -169,30 +169,33 @@ impl<M: ArrayModel> Instance<M> {
             self.elements.iter_mut().map(run).collect()
         } else {
             let helpers = workers - 1;
-            if self.workers.as_ref().is_none_or(|(n, _)| *n != helpers) {
-                self.workers = Some((helpers, Workers::new(helpers)));
+            if self.workers.as_ref().is_none_or(|l| l.helpers() != helpers) {
+                self.workers = Some(workers::PROCESS.lease(helpers));
             }
-            let (_, pool) = self.workers.as_ref().expect("just started");
-            // each thread first takes the elements it evaluated last time (their data are in its caches),
-            // the costliest first (by their last evaluation), then the cheapest left of the others'
-            let threads = pool.threads() + 1;
-            let mut lists = vec![Vec::new(); threads];
-            for (k, e) in self.elements.iter().enumerate() {
-                lists[e.thread.min(threads - 1)].push(k);
-            }
-            for l in &mut lists {
-                l.sort_by(|a, b| self.elements[*b].cost.total_cmp(&self.elements[*a].cost));
-            }
-            let mut slots: Vec<(&mut Element<M>, Option<Evaluated>)> =
-                self.elements.iter_mut().map(|e| (e, None)).collect();
-            pool.each_mut(&mut slots, &lists, |t, (e, r)| {
-                e.thread = t;
-                *r = Some(run(e));
-            });
-            slots
-                .into_iter()
-                .map(|(_, r)| r.expect("every element evaluated"))
-                .collect()
+            let lease = self.workers.as_ref().expect("just leased");
+            let elements = &mut self.elements;
+            lease.with(|pool| {
+                // each thread first takes the elements it evaluated last time (their data are in its caches),
+                // the costliest first (by their last evaluation), then the cheapest left of the others'
+                let threads = pool.threads() + 1;
+                let mut lists = vec![Vec::new(); threads];
+                for (k, e) in elements.iter().enumerate() {
+                    lists[e.thread.min(threads - 1)].push(k);
+                }
+                for l in &mut lists {
+                    l.sort_by(|a, b| elements[*b].cost.total_cmp(&elements[*a].cost));
+                }
+                let mut slots: Vec<(&mut Element<M>, Option<Evaluated>)> =
+                    elements.iter_mut().map(|e| (e, None)).collect();
+                pool.each_mut(&mut slots, &lists, |t, (e, r)| {
+                    e.thread = t;
+                    *r = Some(run(e));
+                });
+                slots
+                    .into_iter()
+                    .map(|(_, r)| r.expect("every element evaluated"))
+                    .collect()
+            })
         };
         let element = M::arrays().element;
         let mut status = Status::Ok;

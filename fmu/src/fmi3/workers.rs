@@ -1,12 +1,18 @@
-//! The worker threads of an instance: started when its first step wants more than one thread, kept for
-//! the following steps and joined when the instance is freed, so that no thread of the library is left
-//! when a host unloads it after `fmi3FreeInstance`.
+//! The worker threads that evaluate the elements of a step besides the calling thread.
 //!
-//! A step hands every worker the same job, runs it on the calling thread too and returns when all have
-//! finished it. Between steps a worker first waits spinning ([`IDLE_SPIN`]), then sleeps: waking a sleeping
-//! thread costs tens of microseconds on a virtual machine (a halted virtual CPU), as much as a table step,
-//! while a master's next step usually follows within that time. The caller waits for the last worker the
-//! same way.
+//! A step hands every worker of a pool the same job, runs it on the calling thread too and returns when all
+//! have finished it. Between steps a worker first waits spinning ([`IDLE_SPIN`]), then sleeps: waking a
+//! sleeping thread costs tens of microseconds on a virtual machine (a halted virtual CPU), as much as a
+//! table step, while a master's next step usually follows within that time. The caller waits for the last
+//! worker the same way.
+//!
+//! The pools belong to the process, not to an instance ([`Registry`]): a master that steps several
+//! instances one after another steps them all on one pool, whose workers are then the threads that wait
+//! spinning for the next instance's step (a pool per instance would leave each instance's workers
+//! spinning while the next instance's take the cores). Instances stepped at the same time from different
+//! threads each take a pool of their own. An instance holds a [`Lease`] from its first parallel step on;
+//! when the last lease ends (the last such instance is freed), every pool's workers are joined, so that no
+//! thread of the library is left when a host unloads it after `fmi3FreeInstance`.
 
 use std::any::Any;
 use std::panic::{AssertUnwindSafe, catch_unwind, resume_unwind};
@@ -104,6 +110,8 @@ impl Shared {
 pub struct Workers {
     shared: Arc<Shared>,
     threads: Vec<JoinHandle<()>>,
+    /// The number of threads asked for (the system may have started fewer).
+    asked: usize,
 }
 
 impl Workers {
@@ -128,7 +136,11 @@ impl Workers {
                     .ok()
             })
             .collect();
-        Workers { shared, threads }
+        Workers {
+            shared,
+            threads,
+            asked: n,
+        }
     }
 
     /// The number of worker threads (besides the caller's).
@@ -209,6 +221,104 @@ impl Workers {
     }
 }
 
+/// The idle pools of a process and the number of leases on them.
+pub struct Registry {
+    pools: Mutex<Pools>,
+}
+
+struct Pools {
+    leases: usize,
+    idle: Vec<Workers>,
+}
+
+/// The process's pools.
+pub static PROCESS: Registry = Registry::new();
+
+impl Registry {
+    /// No pools, no leases.
+    const fn new() -> Registry {
+        Registry {
+            pools: Mutex::new(Pools {
+                leases: 0,
+                idle: Vec::new(),
+            }),
+        }
+    }
+
+    /// A lease on pools of `helpers` workers.
+    pub fn lease(&'static self, helpers: usize) -> Lease {
+        lock(&self.pools).leases += 1;
+        Lease {
+            registry: self,
+            helpers,
+        }
+    }
+
+    /// The number of worker threads in idle pools.
+    #[cfg(test)]
+    fn idle_threads(&self) -> usize {
+        lock(&self.pools).idle.iter().map(Workers::threads).sum()
+    }
+}
+
+/// A holder's claim on a registry's pools of one size: while any lease lasts, the registry keeps its idle
+/// pools; the last lease to end joins their workers.
+pub struct Lease {
+    registry: &'static Registry,
+    helpers: usize,
+}
+
+impl Lease {
+    /// The number of workers asked for.
+    pub fn helpers(&self) -> usize {
+        self.helpers
+    }
+
+    /// Calls `f` with a pool of this lease's size: the idle one used last, else a new one; the pool
+    /// returns to the idle ones afterwards (also when `f` panics: a pool is idle again once `run` returns).
+    pub fn with<R>(&self, f: impl FnOnce(&Workers) -> R) -> R {
+        let taken = {
+            let mut pools = lock(&self.registry.pools);
+            let found = pools.idle.iter().rposition(|w| w.asked == self.helpers);
+            found.map(|i| pools.idle.remove(i))
+        };
+        let back = Return {
+            registry: self.registry,
+            pool: Some(taken.unwrap_or_else(|| Workers::new(self.helpers))),
+        };
+        f(back.pool.as_ref().expect("held until dropped"))
+    }
+}
+
+impl Drop for Lease {
+    fn drop(&mut self) {
+        let ended = {
+            let mut pools = lock(&self.registry.pools);
+            pools.leases -= 1;
+            match pools.leases {
+                0 => std::mem::take(&mut pools.idle),
+                _ => Vec::new(),
+            }
+        };
+        // joined outside the registry's lock
+        drop(ended);
+    }
+}
+
+/// Puts a pool back among the registry's idle ones when dropped.
+struct Return {
+    registry: &'static Registry,
+    pool: Option<Workers>,
+}
+
+impl Drop for Return {
+    fn drop(&mut self) {
+        if let Some(pool) = self.pool.take() {
+            lock(&self.registry.pools).idle.push(pool);
+        }
+    }
+}
+
 /// The items of [`Workers::each_mut`] (a pointer shared by the threads, each dereferencing other items).
 struct Items<T>(*mut T);
 
@@ -285,6 +395,36 @@ mod tests {
         assert!(
             items.iter().all(|x| *x >= 1),
             "the workers serve after a panic"
+        );
+    }
+
+    #[test]
+    fn leases_share_one_pool_and_the_last_lease_joins_its_workers() {
+        let registry: &'static Registry = Box::leak(Box::new(Registry::new()));
+        let (a, b) = (registry.lease(2), registry.lease(2));
+        let pool_of = |l: &Lease| l.with(|w| Arc::as_ptr(&w.shared));
+        let first = pool_of(&a);
+        assert_eq!(pool_of(&b), first, "one after the other: the same pool");
+        assert_eq!(registry.idle_threads(), 2);
+        // a lease that asks while the pool is out gets a pool of its own
+        a.with(|outer| {
+            let inner = b.with(|w| Arc::as_ptr(&w.shared));
+            assert_ne!(inner, Arc::as_ptr(&outer.shared));
+        });
+        assert_eq!(registry.idle_threads(), 4);
+        let shared = a.with(|w| Arc::clone(&w.shared));
+        drop(a);
+        assert_eq!(
+            registry.idle_threads(),
+            4,
+            "a lease remains: the pools stay"
+        );
+        drop(b);
+        assert_eq!(registry.idle_threads(), 0);
+        assert_eq!(
+            Arc::strong_count(&shared),
+            1,
+            "the workers ended with the last lease"
         );
     }
 
