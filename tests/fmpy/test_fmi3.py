@@ -1,6 +1,7 @@
 """The FMI 3.0 FMU (target/fmu/WheelRailFriction-fmi3.fmu, override WHEELRAIL_FMU3): fmpy validates and
 simulates it (Co-Simulation and Model Exchange); one instance of several contacts gives, bit for bit, what one
-FMI 2.0 instance per contact gives at the same inputs, on one thread or two; `contacts` is refused outside
+FMI 2.0 instance per contact gives at the same inputs, on one thread or two; instances stepped in turn share
+the process's worker threads, which end with the last instance freed; `contacts` is refused outside
 configuration mode; FMU states round-trip; derivatives are block-diagonal over the contacts, the adjoint the
 transpose of the directional derivative; illegal call sequences, wrong array lengths and NaN inputs are
 refused with fmi3Error and change nothing."""
@@ -323,3 +324,65 @@ def test_illegal_calls_wrong_lengths_and_nan_are_refused_and_change_nothing(fmi3
     fresh = fmi3_instance(fmi3_files, "fresh", contacts=3, mode=1)
     assert got == step3(fresh, vr, 1e-3, 1, contacts=3)
     free(fmu, fresh)
+
+
+# Two vehicles stepped in turn on two threads each (they share the process's worker threads), a Model Exchange
+# instance on two threads, their outputs against one thread; the number of the library's worker threads
+# (/proc/self/task/*/comm, "wheelrail worke": Linux keeps 15 characters) while they exist and after each free.
+WORKERS_SCRIPT = r"""
+import glob, json, sys
+sys.path.insert(0, sys.argv[1])
+import test_fmi3 as t
+from fmpy import read_model_description
+
+md = read_model_description(t.FMU3)
+files = (md, {v.name: v.valueReference for v in md.modelVariables}, sys.argv[2])
+vr = files[1]
+
+def workers():
+    return sum(open(p).read().startswith("wheelrail worke") for p in glob.glob("/proc/self/task/*/comm"))
+
+def outputs(cls, threads, vehicles):
+    fmus = [t.fmi3_instance(files, f"v{v}", threads=threads, cls=cls) for v in range(vehicles)]
+    got, counts = [], [workers()]
+    for s in range(3):
+        for fmu in fmus:
+            if cls is t.FMU3Slave:
+                got.append(t.step3(fmu, vr, 1e-3 * s, s))
+            else:
+                if s == 0:
+                    fmu.enterContinuousTimeMode()
+                fmu.setTime(1e-3 * s)
+                for j, name in enumerate(t.INPUTS):
+                    fmu.setFloat64([vr[name]], [t.contact_inputs(k, s)[j] for k in range(t.CONTACTS)])
+                got.append(fmu.getFloat64([vr[n] for n in t.OUTPUTS], len(t.OUTPUTS) * t.CONTACTS))
+                fmu.completedIntegratorStep()
+        counts.append(workers())
+    for fmu in fmus:
+        t.free(fmu)
+        counts.append(workers())
+    return got, counts
+
+runs = {f"{cls.__name__} {threads} {vehicles}": outputs(cls, threads, vehicles)
+        for cls in (t.FMU3Slave, t.FMU3Model) for threads, vehicles in ((1, 1), (2, 2))}
+print(json.dumps(runs))
+"""
+
+
+def test_instances_in_turn_share_the_worker_threads_which_end_with_the_last_instance(fmi3_files):
+    import json
+    import subprocess
+    import sys
+
+    script = subprocess.run([sys.executable, "-c", WORKERS_SCRIPT, os.path.dirname(__file__), fmi3_files[2]],
+                            capture_output=True, text=True, check=True)
+    runs = json.loads(script.stdout)
+    for kind in ("FMU3Slave", "FMU3Model"):
+        one, one_counts = runs[f"{kind} 1 1"]
+        two, two_counts = runs[f"{kind} 2 2"]
+        # each vehicle of the two on two threads steps as the one vehicle on one thread, bit for bit
+        assert two[0::2] == one and two[1::2] == one, kind
+        assert set(one_counts) == {0}, "one thread: no worker"
+        # one worker from the first evaluation (leaving initialization mode) on, shared by the two vehicles
+        # stepped in turn; it stays while a vehicle that used it lives and ends with the last one freed
+        assert two_counts == [1, 1, 1, 1, 1, 0], (kind, two_counts)
