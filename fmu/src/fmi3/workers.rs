@@ -169,10 +169,9 @@ impl Workers {
             &s.done,
         );
         *lock(&s.job) = None;
-        if let Err(p) = mine {
-            resume_unwind(p);
-        }
-        if let Some(p) = lock(&s.panic).take() {
+        // a worker's panic is taken in any case: it belongs to this job, not to the next
+        let theirs = lock(&s.panic).take();
+        if let Some(p) = mine.err().or(theirs) {
             resume_unwind(p);
         }
     }
@@ -396,6 +395,19 @@ mod tests {
             items.iter().all(|x| *x >= 1),
             "the workers serve after a panic"
         );
+    }
+
+    #[test]
+    fn a_job_that_panics_on_every_thread_leaves_no_panic_for_the_next() {
+        let w = Workers::new(1);
+        let order = [vec![0, 1, 2, 3], vec![4, 5, 6, 7]];
+        let mut items = vec![0; 8];
+        let r = catch_unwind(AssertUnwindSafe(|| {
+            w.each_mut(&mut items, &order, |_, _: &mut i32| panic!("every thread"))
+        }));
+        assert!(r.is_err());
+        w.each_mut(&mut items, &order, |_, x| *x += 1);
+        assert_eq!(items, vec![1; 8]);
     }
 
     #[test]
