@@ -147,7 +147,7 @@ impl<M: ArrayModel> Instance<M> {
         wanted.min(self.elements.len()).max(1)
     }
 
-    /// Runs `f` on every element (on the instance's threads when there are several), then passes on each
+    /// Runs `f` on every element (on several threads when `threads` asks for them), then passes on each
     /// element's log messages in element order, prefixed by the element's number; the status is the worst
     /// of the elements', the first failure (by element) fails the call.
     fn each(
