@@ -16,7 +16,7 @@
  *   dirder NU U... NK K... NSEED SEED... NSENSITIVITY   adjoint (the same arguments)
  *   get_state S   set_state S   free_state S   serialize S FILE   deserialize S FILE   flip FILE OFFSET
  *   null FUNCTION (the function called with a null instance)   version   process_threads (the threads of
- *   this process: worker threads started and joined)
+ *   this process: worker threads started and joined)   x87_control_word (this thread's, hex)
  */
 #include <stdbool.h>
 
@@ -141,6 +141,13 @@ static int process_threads(void) {
     return n;
 }
 
+/* This thread's x87 control word (the precision and rounding of the x87 unit). */
+static unsigned x87_control_word(void) {
+    unsigned short word;
+    __asm__ volatile("fnstcw %0" : "=m"(word));
+    return word;
+}
+
 /* The value references t[0..n-1]. */
 static void read_vrs(char **t, int n, VR *vrs) {
     for (int k = 0; k < n; k++) vrs[k] = (VR)strtoul(t[k], NULL, 10);
@@ -204,6 +211,10 @@ static Status run_line(int slot, int n, char **t, char *out, size_t out_size) {
     }
     if (!strcmp(cmd, "process_threads")) {
         snprintf(out, out_size, " %d", process_threads());
+        return 0;
+    }
+    if (!strcmp(cmd, "x87_control_word")) {
+        snprintf(out, out_size, " %04x", x87_control_word());
         return 0;
     }
     if (!strcmp(cmd, "instantiate_cs") && n == 6) {

@@ -102,18 +102,23 @@ def windows_path(path):
 # fixtures
 
 
-@pytest.fixture(scope="session")
-def fmu_dir(tmp_path_factory):
-    if not FMU.exists():
-        pytest.fail(f"{FMU} is missing: build it with `make fmu`")
-    out = tmp_path_factory.mktemp("win64-fmu")
-    with zipfile.ZipFile(FMU) as z:
+def extract_fmu(fmu, libraries, out):
+    """The FMU extracted into out, which must hold both libraries."""
+    if not fmu.exists():
+        pytest.fail(f"{fmu} is missing: build it with `make fmu`")
+    with zipfile.ZipFile(fmu) as z:
         names = z.namelist()
-        for lib in ("binaries/linux64/WheelRailFriction.so", "binaries/win64/WheelRailFriction.dll"):
+        for lib in libraries:
             if lib not in names:
-                pytest.fail(f"{FMU} has no {lib}: build it with `make fmu` (both binaries)")
+                pytest.fail(f"{fmu} has no {lib}: build it with `make fmu` (both binaries)")
         z.extractall(out)
     return out
+
+
+@pytest.fixture(scope="session")
+def fmu_dir(tmp_path_factory):
+    libraries = ("binaries/linux64/WheelRailFriction.so", "binaries/win64/WheelRailFriction.dll")
+    return extract_fmu(FMU, libraries, tmp_path_factory.mktemp("win64-fmu"))
 
 
 def tool(name):
@@ -552,7 +557,6 @@ def run(command, plan, plan_path, env=None):
 @pytest.fixture(scope="session")
 def runs(fmu_dir, description, harnesses, wine_env, tmp_path_factory):
     work = tmp_path_factory.mktemp("win64-run")
-    linux_harness, windows_harness = harnesses
 
     def paths(tag, other, native, uri):
         """The files of one platform's run, as that platform names them."""
@@ -574,14 +578,19 @@ def runs(fmu_dir, description, harnesses, wine_env, tmp_path_factory):
     so = str(fmu_dir / "binaries" / "linux64" / "WheelRailFriction.so")
     dll = windows_path(fmu_dir / "binaries" / "win64" / "WheelRailFriction.dll")
 
-    linux_main = main_plan(description, linux_paths)
-    windows_main = main_plan(description, windows_paths)
-    windows_plan = Plan(description, windows_paths)
-    windows_resume = resume_plan(description, windows_paths)
-    windows_plan.lines = windows_main.lines + windows_resume.lines
-    windows_plan.checks = windows_main.checks + windows_resume.checks
-    linux_resume = resume_plan(description, linux_paths)
+    plans = [(main_plan(description, p), resume_plan(description, p)) for p in (linux_paths, windows_paths)]
+    return dict(run_on_both(harnesses, (so, dll), plans, work, wine_env), work=work,
+                paths=(linux_paths, windows_paths))
 
+
+def run_on_both(harnesses, libraries, plans, work, wine_env):
+    """Each platform's (main plan, resume plan) in three processes (Wine starts slowly): the main plan on
+    Linux, under Wine the main plan and the resume plan (the states Linux wrote), the resume plan on Linux
+    (the states Windows wrote). Per plan, the Windows plan and both runs' results; the run times."""
+    (linux_harness, windows_harness), (so, dll) = harnesses, libraries
+    (linux_main, linux_resume), (windows_main, windows_resume) = plans
+    windows_plan = Plan(("", {}), windows_main.paths)
+    windows_plan.lines = windows_main.lines + windows_resume.lines
     plan_file = work / "linux-plan.txt"
     linux_out, linux_s = run([str(linux_harness), so, str(plan_file)], linux_main, plan_file)
     plan_file = work / "windows-plan.txt"
@@ -591,10 +600,8 @@ def runs(fmu_dir, description, harnesses, wine_env, tmp_path_factory):
     linux_resume_out, _ = run([str(linux_harness), so, str(plan_file)], linux_resume, plan_file)
     n = len(windows_main.lines)
     return {
-        "work": work,
         "main": (windows_main, linux_out, windows_out[:n]),
         "resume": (windows_resume, linux_resume_out, windows_out[n:]),
-        "paths": (linux_paths, windows_paths),
         "seconds": {"linux": linux_s, "windows (wine)": windows_s},
     }
 

@@ -15,11 +15,14 @@ platform. The plan (built here, deterministic):
 - bad calls: `contacts` outside configuration mode, wrong numbers of values, NaN, calls in the wrong state,
   a corrupt FMU state, null instances.
 
-Checks: as tests/win64/test_win64.py (its `compare`: statuses, logs, values bit for bit by table and within
-EXACT_TOLERANCE by the exact solver); on each platform, 2 and 0 threads give the bits of 1 thread, and so do
-instances that share the worker threads; the workers end with the last instance that used them; a state
-continues on the other platform as on its own; bad calls return the same errors on both platforms and
-change no output; the DLL exports every function of fmi3Functions.h (the list of tests/fmu/fmi3.rs).
+Checks: as tests/win64/test_win64.py, by its `compare` (statuses, logs, values within EXACT_TOLERANCE: the
+two C runtimes' `exp`, `cbrt`, `pow` … differ in the last bit for some arguments, so also values by table,
+whose Hertz semi-axes take a `cbrt`, differ by an ulp at some points); on each platform, 2 and 0 threads
+give the bits of 1 thread, and so do instances that share the worker threads, also on a host whose x87
+precision is not the one the DLL computes with (the MinGW-built master: see fmu/src/fmi2/x87.rs); the
+workers end with the last instance that used them; a state continues on the other platform as on its own
+and serializes back to the same bytes; bad calls return the same errors on both platforms and change no
+output; the DLL exports every function of fmi3Functions.h (the list of tests/fmu/fmi3.rs).
 
 Needs: target/fmu/WheelRailFriction-fmi3.fmu with both binaries (`make fmu`; override WHEELRAIL_FMU3) and the
 tools of test_win64.py. The plan runs in three processes (Linux, Windows, Linux again for the states the
@@ -32,7 +35,6 @@ import random
 import re
 import subprocess
 import xml.etree.ElementTree as ET
-import zipfile
 
 import pytest
 from test_win64 import (
@@ -42,10 +44,10 @@ from test_win64 import (
     bits,
     compare,
     compile_harness,
+    extract_fmu,
     hexs,
-    parse,
     report,
-    run,
+    run_on_both,
     table_point,
     tool,
     wine_env,  # noqa: F401 (a fixture: the session's Wine prefix, shared with test_win64.py)
@@ -72,6 +74,10 @@ MODES = {
 OK, ERROR = 0, 3
 # the harness's status of an instantiate function that returned null
 NULL_INSTANCE = 3
+# The x87 control word of the Windows x64 calling convention (fmu/src/fmi2/x87.rs: STANDARD), with which the
+# DLL computes: the Windows master (built with MinGW-w64) runs with another (64-bit precision), so that the
+# tests of threads see whether the contacts a worker evaluates come out as those of the host's thread.
+STANDARD_X87 = 0x027F
 KINDS = {"Float64": "float64", "Int32": "int32", "Boolean": "boolean", "String": "string", "UInt64": "uint64"}
 
 
@@ -178,6 +184,7 @@ def main_plan(description, paths):
     """Everything but the continuation of the other platform's states."""
     plan = Plan3(description, paths)
     plan.add(0, "version")
+    plan.add(0, "x87_control_word", tag="x87")
     steps = {mode: inputs_of(plan, mode, STEPS) for mode in MODES}
 
     # each mode on 1, 2 and 0 threads
@@ -188,6 +195,7 @@ def main_plan(description, paths):
             vehicle_steps(plan, 0, steps[mode], check, f"{mode}-threads{threads}")
             plan.add(0, "free")
     plan.mark("threads", start)
+    plan.add(0, "x87_control_word", tag="x87")
 
     # two instances on 2 threads stepped in turn, freed; a new one: the workers end and start again
     start = len(plan.lines)
@@ -337,15 +345,7 @@ def bad_calls(plan):
 
 @pytest.fixture(scope="session")
 def fmu3_dir(tmp_path_factory):
-    if not FMU3.exists():
-        pytest.fail(f"{FMU3} is missing: build it with `make fmu`")
-    out = tmp_path_factory.mktemp("win64-fmu3")
-    with zipfile.ZipFile(FMU3) as z:
-        for lib in (LINUX_LIBRARY, WINDOWS_LIBRARY):
-            if lib not in z.namelist():
-                pytest.fail(f"{FMU3} has no {lib}: build it with `make fmu` (both binaries)")
-        z.extractall(out)
-    return out
+    return extract_fmu(FMU3, (LINUX_LIBRARY, WINDOWS_LIBRARY), tmp_path_factory.mktemp("win64-fmu3"))
 
 
 @pytest.fixture(scope="session")
@@ -362,7 +362,6 @@ def description3(fmu3_dir):
 @pytest.fixture(scope="session")
 def runs3(fmu3_dir, description3, wine_env, tmp_path_factory):  # noqa: F811 (wine_env: the fixture)
     work = tmp_path_factory.mktemp("win64-fmi3-run")
-    linux_harness, windows_harness = compile_harness(HERE / "harness3.c", work)
 
     def paths(tag, other, native, separator):
         """The files of one platform's run, as that platform names them."""
@@ -379,27 +378,9 @@ def runs3(fmu3_dir, description3, wine_env, tmp_path_factory):  # noqa: F811 (wi
     so = str(fmu3_dir / LINUX_LIBRARY)
     dll = windows_path(fmu3_dir / WINDOWS_LIBRARY)
 
-    linux_main = main_plan(description3, linux_paths)
-    windows_main = main_plan(description3, windows_paths)
-    windows_resume = resume_plan(description3, windows_paths)
-    windows_plan = Plan3(description3, windows_paths)
-    windows_plan.lines = windows_main.lines + windows_resume.lines
-    linux_resume = resume_plan(description3, linux_paths)
-
-    plan_file = work / "linux-plan.txt"
-    linux_out, linux_s = run([str(linux_harness), so, str(plan_file)], linux_main, plan_file)
-    plan_file = work / "windows-plan.txt"
-    windows_out, windows_s = run(["wine", str(windows_harness), dll, windows_path(plan_file)], windows_plan,
-                                 plan_file, env=wine_env)
-    plan_file = work / "linux-resume.txt"
-    linux_resume_out, _ = run([str(linux_harness), so, str(plan_file)], linux_resume, plan_file)
-    n = len(windows_main.lines)
-    return {
-        "main": (linux_main, linux_out, windows_out[:n]),
-        "resume": (linux_resume, linux_resume_out, windows_out[n:]),
-        "paths": (linux_paths, windows_paths),
-        "seconds": {"linux": linux_s, "windows (wine)": windows_s},
-    }
+    plans = [(main_plan(description3, p), resume_plan(description3, p)) for p in (linux_paths, windows_paths)]
+    harnesses = compile_harness(HERE / "harness3.c", work)
+    return dict(run_on_both(harnesses, (so, dll), plans, work, wine_env), paths=(linux_paths, windows_paths))
 
 
 # --------------------------------------------------------------------------------------------------------
@@ -456,6 +437,14 @@ def test_threads_give_the_bits_of_one_thread(runs3, platform):
         assert shared == one[: len(shared)], f"{mode}: stepped in turn with another instance"
     again = values_of(results, plan.tags["again-exact"])
     assert again == values_of(results, plan.tags["exact-threads1"])[: len(again)], "the workers started again"
+
+
+def test_the_windows_host_keeps_its_own_x87_control_word(runs3):
+    """The master's thread runs with another x87 precision than the DLL computes with, before and after the
+    calls: the DLL restores the host's control word."""
+    plan, _, windows = runs3["main"]
+    words = [int(windows[k][1][0], 16) for k in plan.tags["x87"]]
+    assert len(set(words)) == 1 and words[0] != STANDARD_X87, [hex(w) for w in words]
 
 
 @pytest.mark.parametrize("platform", [1, 2])
