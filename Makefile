@@ -74,8 +74,9 @@ test-python: build fmu venv
 	$(VPY) -m pytest -q tests/fmpy
 
 # on Windows, under Wine: the library's unit tests (the table kernels' dispatch, the physics), then the win64
-# binary against the linux64 binary: the same calls, statuses, logs and values (tests/win64/test_win64.py;
-# the comparison's figures in target/win64/comparison.json)
+# binary against the linux64 binary: the same calls, statuses, logs and values, of FMI 2.0
+# (tests/win64/test_win64.py) and FMI 3.0 (tests/win64/test_win64_fmi3.py); the comparison's figures in
+# target/win64/comparison.json
 test-win64: fmu venv
 	tools/win64-build.sh --test-library
 	$(VPY) -m pytest -q -s tests/win64

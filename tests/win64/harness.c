@@ -12,7 +12,8 @@
  * NaN, infinities and every last bit pass through unchanged). For each line the harness prints the lines
  * the FMU logged during the call (`L <status> <category hex> <message hex>`), then `R <line> <status>` and
  * the values the call returned (Reals as bits, strings hex); status 8 means a file the plan names could not
- * be read or written. Commands (see `run_line`):
+ * be read or written. What it shares with the FMI 3.0 master harness3.c is in plan.h. Commands (see
+ * `run_line`):
  *   instantiate NAME TYPE GUID URI LOGGING   free   setup START   enter_init   exit_init   terminate   reset
  *   set_real VR BITS...   set_integer VR I...   set_boolean VR B...   set_string VR S...
  *   get_real VR...   get_integer VR...   get_boolean VR...   get_string VR...
@@ -23,22 +24,11 @@
  *   null FUNCTION (the function called with a null component)   versions
  * A crash ends the process: the last `R` line tells which call it was.
  */
-#include <inttypes.h>
 #include <stdarg.h>
-#include <stdint.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
-#ifdef _WIN32
-#include <windows.h>
-#else
-#include <dlfcn.h>
-#endif
 
-typedef void *Comp;
-typedef void *State;
+#include "plan.h"
+
 typedef unsigned int VR;
-typedef int Status;
 typedef void (*Logger)(void *, const char *, int, const char *, const char *, ...);
 typedef struct {
     Logger logger;
@@ -53,38 +43,6 @@ typedef struct {
     double next_event_time;
 } EventInfo;
 
-#define SLOTS 4
-/* The status printed when a file the plan names cannot be read or written (not an FMI status). */
-#define NO_FILE 8
-#define MAX_TOKENS 256
-#define MAX_VALUES 128
-
-static Comp instances[SLOTS];
-static State states[SLOTS];
-static void *library;
-
-static void *symbol(const char *name) {
-#ifdef _WIN32
-    void *f = (void *)GetProcAddress((HMODULE)library, name);
-#else
-    void *f = dlsym(library, name);
-#endif
-    if (!f) {
-        printf("E missing symbol %s\n", name);
-        exit(2);
-    }
-    return f;
-}
-#define FN(type, name) ((type)symbol(name))
-
-static void hex_out(const unsigned char *s, size_t n) {
-    if (!n) {
-        fputs(".", stdout);
-        return;
-    }
-    for (size_t i = 0; i < n; i++) printf("%02x", s[i]);
-}
-
 /* The logger: the message is a printf format with the variadic arguments. */
 static void logger(void *env, const char *name, int status, const char *category, const char *fmt, ...) {
     char buf[16384];
@@ -94,54 +52,10 @@ static void logger(void *env, const char *name, int status, const char *category
     va_start(ap, fmt);
     vsnprintf(buf, sizeof buf, fmt ? fmt : "(null)", ap);
     va_end(ap);
-    printf("L %d ", status);
-    hex_out((const unsigned char *)(category ? category : ""), category ? strlen(category) : 0);
-    putchar(' ');
-    hex_out((const unsigned char *)buf, strlen(buf));
-    putchar('\n');
+    log_line(status, category, buf);
 }
 
 static Callbacks callbacks = {logger, calloc, free, NULL, NULL};
-
-/* A hex-encoded string argument: "-" null, "." empty; the result lives until the next line. */
-static char strings[MAX_TOKENS][4096];
-static const char *str_arg(const char *tok, int k) {
-    if (!strcmp(tok, "-")) return NULL;
-    if (!strcmp(tok, ".")) return "";
-    size_t n = strlen(tok) / 2;
-    if (n >= sizeof strings[0]) n = sizeof strings[0] - 1;
-    for (size_t i = 0; i < n; i++) {
-        unsigned v;
-        sscanf(tok + 2 * i, "%2x", &v);
-        strings[k][i] = (char)v;
-    }
-    strings[k][n] = 0;
-    return strings[k];
-}
-static double real_arg(const char *tok) {
-    uint64_t bits = strtoull(tok, NULL, 16);
-    double x;
-    memcpy(&x, &bits, sizeof x);
-    return x;
-}
-/* Appends " <bits>" of a Real to out (room bytes left); returns the characters written. */
-static size_t put_real(char *out, size_t room, double x) {
-    uint64_t bits;
-    memcpy(&bits, &x, sizeof bits);
-    return (size_t)snprintf(out, room, " %016" PRIx64, bits);
-}
-
-static unsigned char *read_file(const char *path, size_t *size) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    unsigned char *bytes = malloc(n > 0 ? (size_t)n : 1);
-    *size = fread(bytes, 1, (size_t)n, f);
-    fclose(f);
-    return bytes;
-}
 
 typedef Status (*F0)(Comp);
 typedef Status (*FGetR)(Comp, const VR *, size_t, double *);
@@ -159,6 +73,11 @@ static const struct {
     {"enter_init", "fmi2EnterInitializationMode"}, {"exit_init", "fmi2ExitInitializationMode"},
     {"terminate", "fmi2Terminate"}, {"reset", "fmi2Reset"}, {"cancel_step", "fmi2CancelStep"},
     {"enter_event", "fmi2EnterEventMode"}, {"enter_ct", "fmi2EnterContinuousTimeMode"},
+};
+
+static const StateFunctions state_functions = {
+    "fmi2GetFMUstate",           "fmi2SetFMUstate",       "fmi2FreeFMUstate",
+    "fmi2SerializedFMUstateSize", "fmi2SerializeFMUstate", "fmi2DeSerializeFMUstate",
 };
 
 /* Runs one plan line (its tokens after the slot); returns the status, printing returned values. */
@@ -188,6 +107,8 @@ static Status run_line(int slot, int n, char **t, char *out, size_t out_size) {
                  FN(const char *(*)(void), "fmi2GetVersion")());
         return 0;
     }
+    Status handled = run_state_command(&state_functions, c, cmd, t, out, out_size);
+    if (handled != NOT_A_STATE_COMMAND) return handled;
     if (!strcmp(cmd, "instantiate")) {
         Comp made = FN(Comp(*)(const char *, int, const char *, const char *, const Callbacks *, int, int),
                        "fmi2Instantiate")(str_arg(t[1], 1), atoi(t[2]), str_arg(t[3], 3), str_arg(t[4], 4),
@@ -235,12 +156,7 @@ static Status run_line(int slot, int n, char **t, char *out, size_t out_size) {
         } else if (!strcmp(cmd, "get_string")) {
             s = FN(FGetS, "fmi2GetString")(c, vrs, nv, sv);
             if (s <= 1)
-                for (int k = 0; k < nv; k++) {
-                    used += snprintf(out + used, out_size - used, " ");
-                    for (const char *p = sv[k] ? sv[k] : ""; *p && used + 3 < out_size; p++)
-                        used += snprintf(out + used, out_size - used, "%02x", (unsigned char)*p);
-                    if (!sv[k] || !*sv[k]) used += snprintf(out + used, out_size - used, ".");
-                }
+                for (int k = 0; k < nv; k++) used += put_string(out + used, out_size - used, sv[k]);
         } else {
             s = FN(FGetI, !strcmp(cmd, "get_integer") ? "fmi2GetInteger" : "fmi2GetBoolean")(c, vrs, nv, iv);
             if (s <= 1)
@@ -313,93 +229,7 @@ static Status run_line(int slot, int n, char **t, char *out, size_t out_size) {
         return FN(Status(*)(Comp, int, size_t, const char *const *), "fmi2SetDebugLogging")(
             c, atoi(t[1]), n > 2 ? (size_t)(n - 2) : 0, cats);
     }
-    if (!strcmp(cmd, "get_state") || !strcmp(cmd, "set_state") || !strcmp(cmd, "free_state")) {
-        int k = atoi(t[1]) % SLOTS;
-        if (!strcmp(cmd, "get_state")) return FN(Status(*)(Comp, State *), "fmi2GetFMUstate")(c, &states[k]);
-        if (!strcmp(cmd, "set_state")) return FN(Status(*)(Comp, State), "fmi2SetFMUstate")(c, states[k]);
-        Status s = FN(Status(*)(Comp, State *), "fmi2FreeFMUstate")(c, &states[k]);
-        states[k] = NULL;
-        return s;
-    }
-    if (!strcmp(cmd, "serialize")) {
-        int k = atoi(t[1]) % SLOTS;
-        size_t size = 0;
-        Status s = FN(Status(*)(Comp, State, size_t *), "fmi2SerializedFMUstateSize")(c, states[k], &size);
-        if (s > 1) return s;
-        unsigned char *bytes = malloc(size ? size : 1);
-        s = FN(Status(*)(Comp, State, unsigned char *, size_t), "fmi2SerializeFMUstate")(c, states[k], bytes,
-                                                                                         size);
-        FILE *f = s <= 1 ? fopen(t[2], "wb") : NULL;
-        if (f) fwrite(bytes, 1, size, f), fclose(f);
-        free(bytes);
-        snprintf(out, out_size, " %zu", size);
-        return f || s > 1 ? s : NO_FILE;
-    }
-    if (!strcmp(cmd, "deserialize")) {
-        int k = atoi(t[1]) % SLOTS;
-        size_t size = 0;
-        unsigned char *bytes = read_file(t[2], &size);
-        if (!bytes) return NO_FILE;
-        Status s = FN(Status(*)(Comp, const unsigned char *, size_t, State *), "fmi2DeSerializeFMUstate")(
-            c, bytes, size, &states[k]);
-        free(bytes);
-        return s;
-    }
-    if (!strcmp(cmd, "flip")) {
-        /* a file's byte at OFFSET xor-ed with 0x55: a corrupted state blob */
-        size_t size = 0;
-        unsigned char *bytes = read_file(t[1], &size);
-        size_t at = (size_t)strtoul(t[2], NULL, 10);
-        if (!bytes || at >= size) return NO_FILE;
-        bytes[at] ^= 0x55;
-        FILE *f = fopen(t[1], "wb");
-        if (f) fwrite(bytes, 1, size, f), fclose(f);
-        free(bytes);
-        return f ? 0 : NO_FILE;
-    }
     return -1; /* an unknown command: a broken plan */
 }
 
-int main(int argc, char **argv) {
-    static char line[65536], out[65536];
-    char *tokens[MAX_TOKENS];
-    if (argc != 3) {
-        fprintf(stderr, "usage: harness LIBRARY PLAN\n");
-        return 2;
-    }
-    setvbuf(stdout, NULL, _IOFBF, 1 << 16);
-#ifdef _WIN32
-    library = (void *)LoadLibraryA(argv[1]);
-    if (!library) {
-        printf("E LoadLibrary %s failed: error %lu\n", argv[1], (unsigned long)GetLastError());
-        return 2;
-    }
-#else
-    library = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
-    if (!library) {
-        printf("E dlopen %s failed: %s\n", argv[1], dlerror());
-        return 2;
-    }
-#endif
-    FILE *plan = fopen(argv[2], "r");
-    if (!plan) {
-        printf("E cannot read the plan %s\n", argv[2]);
-        return 2;
-    }
-    for (int number = 1; fgets(line, sizeof line, plan); number++) {
-        int n = 0;
-        for (char *tok = strtok(line, " \r\n"); tok && n < MAX_TOKENS; tok = strtok(NULL, " \r\n"))
-            tokens[n++] = tok;
-        if (n < 2 || tokens[0][0] == '#') continue;
-        int slot = atoi(tokens[0]) % SLOTS;
-        Status s = run_line(slot, n - 1, tokens + 1, out, sizeof out);
-        printf("R %d %d%s\n", number, s, out);
-        if (s == -1) {
-            printf("E plan line %d: bad command or arguments\n", number);
-            return 2;
-        }
-    }
-    fclose(plan);
-    fflush(stdout);
-    return 0;
-}
+int main(int argc, char **argv) { return run_plan(argc, argv, run_line); }

@@ -56,6 +56,8 @@ EXACT_TOLERANCE = 1e-12
 # difference is allowed to be EXACT_TOLERANCE / FD_STEP relative.
 FD_STEP = 1e-4
 DERIVATIVE_TOLERANCE = EXACT_TOLERANCE / FD_STEP
+# the harnesses' commands that return derivatives (harness3.c's adjoint: the same differences, transposed)
+DERIVATIVE_COMMANDS = ("dirder", "adjoint")
 
 # The DLLs that every Windows (7 to 11) has; the FMU's DLL may import no other.
 SYSTEM_DLLS = {"kernel32.dll", "advapi32.dll", "msvcrt.dll", "ntdll.dll", "userenv.dll", "ws2_32.dll"}
@@ -100,18 +102,23 @@ def windows_path(path):
 # fixtures
 
 
-@pytest.fixture(scope="session")
-def fmu_dir(tmp_path_factory):
-    if not FMU.exists():
-        pytest.fail(f"{FMU} is missing: build it with `make fmu`")
-    out = tmp_path_factory.mktemp("win64-fmu")
-    with zipfile.ZipFile(FMU) as z:
+def extract_fmu(fmu, libraries, out):
+    """The FMU extracted into out, which must hold both libraries."""
+    if not fmu.exists():
+        pytest.fail(f"{fmu} is missing: build it with `make fmu`")
+    with zipfile.ZipFile(fmu) as z:
         names = z.namelist()
-        for lib in ("binaries/linux64/WheelRailFriction.so", "binaries/win64/WheelRailFriction.dll"):
+        for lib in libraries:
             if lib not in names:
-                pytest.fail(f"{FMU} has no {lib}: build it with `make fmu` (both binaries)")
+                pytest.fail(f"{fmu} has no {lib}: build it with `make fmu` (both binaries)")
         z.extractall(out)
     return out
+
+
+@pytest.fixture(scope="session")
+def fmu_dir(tmp_path_factory):
+    libraries = ("binaries/linux64/WheelRailFriction.so", "binaries/win64/WheelRailFriction.dll")
+    return extract_fmu(FMU, libraries, tmp_path_factory.mktemp("win64-fmu"))
 
 
 def tool(name):
@@ -133,15 +140,18 @@ def description(fmu_dir):
     return root.get("guid"), variables
 
 
-@pytest.fixture(scope="session")
-def harnesses(tmp_path_factory):
-    out = tmp_path_factory.mktemp("win64-harness")
-    source = HERE / "harness.c"
+def compile_harness(source, out):
+    """A master of tests/win64 built for Linux and for Windows: the two executables."""
     flags = ["-std=c11", "-O2", "-Wall", "-Wextra", "-Werror"]
-    linux, windows = out / "harness", out / "harness.exe"
+    linux, windows = out / source.stem, out / (source.stem + ".exe")
     subprocess.run([tool(os.environ.get("CC", "gcc")), *flags, "-o", linux, source, "-ldl"], check=True)
     subprocess.run([tool("x86_64-w64-mingw32-gcc"), *flags, "-static", "-o", windows, source], check=True)
     return linux, windows
+
+
+@pytest.fixture(scope="session")
+def harnesses(tmp_path_factory):
+    return compile_harness(HERE / "harness.c", tmp_path_factory.mktemp("win64-harness"))
 
 
 @pytest.fixture(scope="session")
@@ -149,8 +159,11 @@ def wine_env(tmp_path_factory):
     tool("wine")
     env = dict(os.environ)
     env.pop("DISPLAY", None)
+    # one prefix for the session (tests/win64/test_win64_fmi3.py uses this fixture too): Wine creates it once
+    prefix = tmp_path_factory.getbasetemp() / "wineprefix"
+    prefix.mkdir(exist_ok=True)
     env.update(
-        WINEPREFIX=str(tmp_path_factory.mktemp("wineprefix")),
+        WINEPREFIX=str(prefix),
         WINEDEBUG="-all",
         # no Mono or Gecko installers (they would ask through a window) when Wine creates the prefix
         WINEDLLOVERRIDES="mscoree,mshtml=",
@@ -231,20 +244,21 @@ class Plan:
         return values
 
 
+def table_point(rng):
+    """A point inside the bundled table's ranges (default contact): creepages, spin, load, speed, wetness."""
+    return {
+        "creepage_longitudinal": rng.uniform(-0.02, 0.02),
+        "creepage_lateral": rng.uniform(-0.01, 0.01),
+        "spin_creepage": rng.uniform(-0.8, 0.8),
+        "normal_force": rng.uniform(2e4, 1.8e5),
+        "rolling_speed": rng.choice([1, -1]) * rng.uniform(2.0, 60.0),
+        "wetness": rng.choice([0.0, 0.0, rng.uniform(0.0, 1.0), 1.0]),
+    }
+
+
 def table_points(rng, n):
     """Points inside the bundled table's ranges (default contact): creepages, spin, load, speed, wetness."""
-    points = []
-    for k in range(n):
-        points.append(
-            {
-                "creepage_longitudinal": rng.uniform(-0.02, 0.02),
-                "creepage_lateral": rng.uniform(-0.01, 0.01),
-                "spin_creepage": rng.uniform(-0.8, 0.8),
-                "normal_force": rng.uniform(2e4, 1.8e5),
-                "rolling_speed": rng.choice([1, -1]) * rng.uniform(2.0, 60.0),
-                "wetness": rng.choice([0.0, 0.0, rng.uniform(0.0, 1.0), 1.0]),
-            }
-        )
+    points = [table_point(rng) for _ in range(n)]
     points[1]["normal_force"] = 0.0  # lifted wheel
     points[2]["rolling_speed"] = -25.0  # rolling backwards
     return points
@@ -543,7 +557,6 @@ def run(command, plan, plan_path, env=None):
 @pytest.fixture(scope="session")
 def runs(fmu_dir, description, harnesses, wine_env, tmp_path_factory):
     work = tmp_path_factory.mktemp("win64-run")
-    linux_harness, windows_harness = harnesses
 
     def paths(tag, other, native, uri):
         """The files of one platform's run, as that platform names them."""
@@ -565,14 +578,19 @@ def runs(fmu_dir, description, harnesses, wine_env, tmp_path_factory):
     so = str(fmu_dir / "binaries" / "linux64" / "WheelRailFriction.so")
     dll = windows_path(fmu_dir / "binaries" / "win64" / "WheelRailFriction.dll")
 
-    linux_main = main_plan(description, linux_paths)
-    windows_main = main_plan(description, windows_paths)
-    windows_plan = Plan(description, windows_paths)
-    windows_resume = resume_plan(description, windows_paths)
-    windows_plan.lines = windows_main.lines + windows_resume.lines
-    windows_plan.checks = windows_main.checks + windows_resume.checks
-    linux_resume = resume_plan(description, linux_paths)
+    plans = [(main_plan(description, p), resume_plan(description, p)) for p in (linux_paths, windows_paths)]
+    return dict(run_on_both(harnesses, (so, dll), plans, work, wine_env), work=work,
+                paths=(linux_paths, windows_paths))
 
+
+def run_on_both(harnesses, libraries, plans, work, wine_env):
+    """Each platform's (main plan, resume plan) in three processes (Wine starts slowly): the main plan on
+    Linux, under Wine the main plan and the resume plan (the states Linux wrote), the resume plan on Linux
+    (the states Windows wrote). Per plan, the Windows plan and both runs' results; the run times."""
+    (linux_harness, windows_harness), (so, dll) = harnesses, libraries
+    (linux_main, linux_resume), (windows_main, windows_resume) = plans
+    windows_plan = Plan(("", {}), windows_main.paths)
+    windows_plan.lines = windows_main.lines + windows_resume.lines
     plan_file = work / "linux-plan.txt"
     linux_out, linux_s = run([str(linux_harness), so, str(plan_file)], linux_main, plan_file)
     plan_file = work / "windows-plan.txt"
@@ -582,24 +600,23 @@ def runs(fmu_dir, description, harnesses, wine_env, tmp_path_factory):
     linux_resume_out, _ = run([str(linux_harness), so, str(plan_file)], linux_resume, plan_file)
     n = len(windows_main.lines)
     return {
-        "work": work,
         "main": (windows_main, linux_out, windows_out[:n]),
         "resume": (windows_resume, linux_resume_out, windows_out[n:]),
-        "paths": (linux_paths, windows_paths),
         "seconds": {"linux": linux_s, "windows (wine)": windows_s},
     }
 
 
 def normalise(text, paths):
     """A log text with the platform's own paths replaced by their role."""
+    # canonical Windows paths carry the verbatim prefix \\?\ (in Rust's debug format of a path, which
+    # doubles each backslash, \\\\?\\)
+    s = text.decode("utf-8", "replace").replace("\\\\\\\\?\\\\", "").replace("\\\\?\\", "")
+    s = s.replace("\\\\", "\\")
     # Windows paths as Unix paths: Z:\tmp\x and Z:/tmp/x are /tmp/x
-    s = re.sub(r"\bZ:/", "/", text.decode("utf-8", "replace").replace("\\", "/"))
-    # canonical Windows paths carry the verbatim prefix \\?\ (shown as //?/ here)
-    s = s.replace("//?/", "")
-    names = [("uri", paths["uri"]), ("table", paths["table"])]
-    for group in ("state_out", "state_in", "reserialized"):
-        names += [(f"{group}.{k}", v) for k, v in paths[group].items()]
-    names += [(k, paths[k]) for k in ("scratch", "fuzz_state", "plan")]
+    s = re.sub(r"\bZ:/", "/", s.replace("\\", "/")).replace("//?/", "")
+    names = []
+    for role, value in paths.items():
+        names += [(f"{role}.{k}", v) for k, v in value.items()] if isinstance(value, dict) else [(role, value)]
     for role, value in sorted(names, key=lambda x: -len(x[1])):
         s = s.replace(re.sub(r"\bZ:/", "/", value.replace("\\", "/")), f"<{role}>")
     # the operating system's own error texts differ ("No such file or directory" / "The system cannot find
@@ -638,7 +655,8 @@ def compare(plan, linux, windows, paths):
                 if a != b:
                     problems.append(f"line {k + 1} `{line[:100]}`: value {j}: {a} / {b}")
                 continue
-            how = "table" if check == "bits" else "exact derivatives" if line.split()[1] == "dirder" else "exact"
+            derivative = line.split()[1] in DERIVATIVE_COMMANDS
+            how = "table" if check == "bits" else "exact derivatives" if derivative else "exact"
             st = stats[how]
             st["values"] += 1
             if a == b:
@@ -649,7 +667,7 @@ def compare(plan, linux, windows, paths):
             rel = abs(x - y) / max(abs(x), abs(y), floor, 1e-300) if x == x and y == y else float("inf")
             if rel > st["largest_relative_difference"]:
                 st["largest_relative_difference"], st["where"] = rel, f"line {k + 1} value {j}: {line[:70]}"
-            if rel > (DERIVATIVE_TOLERANCE if line.split()[1] == "dirder" else EXACT_TOLERANCE):
+            if rel > (DERIVATIVE_TOLERANCE if derivative else EXACT_TOLERANCE):
                 problems.append(f"line {k + 1} `{line[:100]}`: value {j}: {x!r} / {y!r}, relative {rel:.2e}")
     return problems, stats
 

@@ -21,6 +21,7 @@ use super::resources::path_from_uri;
 use super::snapshot::Snapshot;
 use super::state::{self, Interface, Mask, StateBit};
 use super::variables::{Type, Value};
+use super::x87;
 use std::ffi::{CStr, c_char, c_int};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::ptr::null_mut;
@@ -82,8 +83,9 @@ impl<M: Model> Guarded for Instance<M> {
 }
 
 /// Runs `f` on `inst` if the function belongs to the instance's interface type and `allowed` contains its
-/// state (else "Illegal call sequence"), inside `catch_unwind`; logs a failure, and enters the Error state
-/// on a failed computation or a panic. The status as a C int.
+/// state (else "Illegal call sequence"), inside `catch_unwind` and with the standard x87 control word
+/// ([`x87`]); logs a failure, and enters the Error state on a failed computation or a panic. The status
+/// as a C int.
 pub fn guarded<I: Guarded>(
     inst: &mut I,
     function: &str,
@@ -105,7 +107,7 @@ pub fn guarded<I: Guarded>(
         ));
         return Status::Error as c_int;
     }
-    let status = match catch_unwind(AssertUnwindSafe(|| f(inst))) {
+    let status = match catch_unwind(AssertUnwindSafe(|| x87::standard(|| f(inst)))) {
         Ok(Ok(status)) => status,
         Ok(Err(Failure::Rejected(msg))) => {
             inst.logger().error(&format!("{function}: {msg}"));

@@ -13,6 +13,7 @@ pub mod resources;
 pub mod snapshot;
 pub mod state;
 pub mod variables;
+pub mod x87;
 
 #[cfg(test)]
 mod tests;
