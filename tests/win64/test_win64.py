@@ -13,12 +13,12 @@ Windows), so the bundled table loads from the Windows path. The plan (built here
 - bad inputs and illegal call sequences, then a short fuzz of random call sequences.
 
 Checks: every call returns the same status on both platforms and logs the same number of messages of the same
-statuses and categories (texts equal once each platform's paths are replaced); every integer and boolean
-is equal; every Real within `EXACT_TOLERANCE` (the two C runtimes' `exp`, `log`, `pow`, `cbrt` differ in
-the last bit for some arguments: a few per cent of the values by table differ by an ulp or two, at loads
-whose Hertz semi-axes (a cube root) differ, and the exact solver's coupled solve carries such differences further); the share of
-values equal bit for bit and the largest difference, by table and by the exact solver, are printed and
-written to target/win64/comparison.json;
+statuses and categories (texts equal once each platform's paths are replaced); every integer and boolean is
+equal; every Real within `EXACT_TOLERANCE` (the two C runtimes' `exp`, `log`, `pow`, `cbrt` differ in the last
+bit for some arguments: a few per cent of the values by table differ by an ulp or two, at loads whose Hertz
+semi-axes (a cube root) differ, and the exact solver's coupled solve carries such differences further); the
+share of values equal bit for bit and the largest difference, by table and by the exact solver, are printed
+and written to target/win64/comparison.json;
 a state continues on the other platform as on its own and serializes back to the same bytes. The DLL's
 import table names only DLLs that every Windows has, and it exports every FMI 2.0 function.
 
