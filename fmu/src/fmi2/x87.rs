@@ -3,7 +3,7 @@
 //! There the C runtime the DLL is linked with (MinGW-w64's) computes `exp`, `expm1`, `atan2`, `sincos`,
 //! `asinh` … on the x87 unit, whose results depend on the precision set in the calling thread's x87
 //! control word. The Windows x64 calling convention sets it to [`STANDARD`] (53-bit precision) at program
-//! start, and the threads the FMU starts (the FMI 3.0 worker threads) begin with that value, but a host may
+//! start, and the threads the FMU starts (the FMI 3.0 worker threads) run with that value, but a host may
 //! run with another: a program built with MinGW-w64 runs with 64-bit precision (0x037F). On such a host the
 //! contacts a worker evaluated would differ in their last bits from those the host's thread evaluated (the
 //! results would depend on `threads`), and the results from those on other hosts. So each FMI call runs

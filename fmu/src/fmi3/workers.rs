@@ -14,6 +14,7 @@
 //! when the last lease ends (the last such instance is freed), every pool's workers are joined, so that no
 //! thread of the library is left when a host unloads it after `fmi3FreeInstance`.
 
+use crate::fmi2::x87;
 use std::any::Any;
 use std::panic::{AssertUnwindSafe, catch_unwind, resume_unwind};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
@@ -132,7 +133,8 @@ impl Workers {
                 let s = Arc::clone(&shared);
                 std::thread::Builder::new()
                     .name(format!("wheelrail worker {}", k + 1))
-                    .spawn(move || s.serve(k + 1))
+                    // computing as the caller does inside every FMI call, whatever the thread started with
+                    .spawn(move || x87::standard(|| s.serve(k + 1)))
                     .ok()
             })
             .collect();
