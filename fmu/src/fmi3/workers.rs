@@ -60,7 +60,7 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
-/// Waits until `ready()`: spinning for [`IDLE_SPIN`], then sleeping on `condvar` with `guard`'s lock,
+/// Waits until `ready()`: spinning for [`IDLE_SPIN`], then sleeping on `condvar` with the lock `lock_of`,
 /// which whoever makes `ready()` true takes before notifying.
 fn wait_for<T>(ready: impl Fn() -> bool, lock_of: &Mutex<T>, condvar: &Condvar) {
     let start = Instant::now();
