@@ -30,6 +30,8 @@ pub struct Element<M> {
     cost: f64,
     /// The thread that evaluated it last (0: the caller's).
     thread: usize,
+    /// Whether its outputs have been evaluated once (its set-up).
+    evaluated: bool,
 }
 
 /// An FMI 3.0 instance of `contacts` elements of model `M`.
@@ -64,6 +66,13 @@ fn available_cores() -> usize {
     static CORES: OnceLock<usize> = OnceLock::new();
     *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }
+
+/// The least work [s] (the sum of the last evaluation times of the elements a call evaluates) that is
+/// shared between threads; less runs on the calling thread. Handing a job to the workers and waiting for
+/// them costs 2–15 µs while they wait spinning and 50–100 µs once they sleep (waking a halted virtual CPU):
+/// a step of eight contacts by table (a few µs) would take longer on several threads than on one, a step of
+/// exact contacts (tens to hundreds of µs each) gains.
+const PARALLEL_WORK: f64 = 100e-6;
 
 /// One element's evaluation: its status and the log messages it kept.
 type Evaluated = (Result<Status, String>, Vec<Message>);
@@ -134,6 +143,7 @@ impl<M: ArrayModel> Instance<M> {
                 model: M::new(self.resources.clone()),
                 cost: 0.0,
                 thread: 0,
+                evaluated: false,
             });
         }
     }
@@ -159,12 +169,25 @@ impl<M: ArrayModel> Instance<M> {
             let (log, kept) = Logger::keeping(categories);
             let (start, computes) = (Instant::now(), e.stale);
             let result = f(e, &log);
-            if computes {
-                e.cost = start.elapsed().as_secs_f64();
+            // the first evaluation sets the element up (loads its table, builds its solver's operators):
+            // its time says nothing of the steps
+            match computes && e.evaluated {
+                true => e.cost = start.elapsed().as_secs_f64(),
+                false => e.evaluated |= computes,
             }
             (result, kept.take())
         };
-        let workers = self.worker_count();
+        // the elements to evaluate, by their last times: a step too small to gain from more threads runs on this one
+        let work: f64 = self
+            .elements
+            .iter()
+            .filter(|e| e.stale)
+            .map(|e| e.cost)
+            .sum();
+        let workers = match work < PARALLEL_WORK {
+            true => 1,
+            false => self.worker_count(),
+        };
         let results: Vec<Evaluated> = if workers <= 1 {
             self.elements.iter_mut().map(run).collect()
         } else {
@@ -633,6 +656,7 @@ impl<M: ArrayModel> Instance<M> {
                 model: M::new(self.resources.clone()),
                 cost: 0.0,
                 thread: 0,
+                evaluated: false,
             });
         }
         for (e, (values, stale, model)) in self.elements.iter_mut().zip(&s.elements) {
