@@ -117,6 +117,12 @@ impl<M: ArrayModel> Instance<M> {
         &self.elements[k].values
     }
 
+    /// Whether a call has shared its elements with the workers.
+    #[cfg(test)]
+    pub fn has_shared(&self) -> bool {
+        self.workers.is_some()
+    }
+
     /// The current time [s].
     pub fn time(&self) -> f64 {
         self.time

@@ -32,6 +32,15 @@ fn inputs(k: usize, s: usize) -> [f64; 6] {
 
 /// A Co-Simulation instance of `contacts` exact contacts on a 6 × 6 grid, initialized.
 fn vehicle(contacts: u64, threads: u64) -> Vehicle {
+    vehicle_on(contacts, threads, 6)
+}
+
+/// A grid on which a step of three exact contacts takes well over the least work that is shared between
+/// threads (tens of µs per contact on 6 × 6, a few hundred on this grid).
+const THREADED_GRID: i32 = 16;
+
+/// A Co-Simulation instance of `contacts` exact contacts on a `grid` × `grid` grid, initialized.
+fn vehicle_on(contacts: u64, threads: u64, grid: i32) -> Vehicle {
     let mut v = Vehicle::new(
         "v".into(),
         Interface::CoSimulation,
@@ -43,7 +52,7 @@ fn vehicle(contacts: u64, threads: u64) -> Vehicle {
     v.configuration_mode(false).unwrap();
     v.set_counts(&[THREADS_VR], &[threads]).unwrap();
     v.set(&[GRID_SIZE as u32, MODE as u32], Type::Integer, 2, |k| {
-        Ok(Value::Integer([6, 2][k]))
+        Ok(Value::Integer([grid, 2][k]))
     })
     .unwrap();
     v.enter_initialization_mode(0.0).unwrap();
@@ -69,7 +78,8 @@ fn vehicle_step(v: &mut Vehicle, s: usize) -> Vec<u64> {
 }
 
 /// Three contacts of one instance equal three FMI 2.0 instances step by step (warm starts carried),
-/// evaluated one after another and on two and three threads.
+/// evaluated one after another, on two threads and on the cores (the first step measures the contacts'
+/// times on the calling thread, the later ones are shared with the workers).
 #[test]
 fn contacts_equal_fmi2_instances_on_any_number_of_threads() {
     let mut singles: Vec<Instance2<WheelRailModel>> = (0..3)
@@ -81,7 +91,7 @@ fn contacts_equal_fmi2_instances_on_any_number_of_threads() {
                 WheelRailModel::new(None),
             );
             i.set(&[GRID_SIZE as u32, MODE as u32], |k| {
-                Ok(Value::Integer([6, 2][k]))
+                Ok(Value::Integer([THREADED_GRID, 2][k]))
             })
             .unwrap();
             i.enter_initialization_mode().unwrap();
@@ -89,8 +99,8 @@ fn contacts_equal_fmi2_instances_on_any_number_of_threads() {
             i
         })
         .collect();
-    let mut vehicles = [vehicle(3, 1), vehicle(3, 2), vehicle(3, 0)];
-    for s in 0..3 {
+    let mut vehicles = [1, 2, 0].map(|threads| vehicle_on(3, threads, THREADED_GRID));
+    for s in 0..6 {
         let mut want = vec![0; OUTPUTS.len() * 3];
         for (k, single) in singles.iter_mut().enumerate() {
             let vrs = INPUTS.map(|i| i as u32);
@@ -105,6 +115,14 @@ fn contacts_equal_fmi2_instances_on_any_number_of_threads() {
         for v in &mut vehicles {
             assert_eq!(vehicle_step(v, s), want, "step {s}");
         }
+    }
+    assert!(!vehicles[0].has_shared());
+    assert!(
+        vehicles[1].has_shared(),
+        "two threads: the steps were shared"
+    );
+    if std::thread::available_parallelism().is_ok_and(|n| n.get() > 1) {
+        assert!(vehicles[2].has_shared(), "the cores: the steps were shared");
     }
 }
 
