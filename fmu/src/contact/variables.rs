@@ -778,8 +778,9 @@ pub static ARRAYS: ArrayInfo = ArrayInfo {
         start: 0,
         min: 0,
         max: MAX_THREADS,
-        description: "Threads that evaluate the contacts of a step (0: the cores the process may use; \
-                      results are bit for bit the same for any number)",
+        description: "Threads that evaluate the contacts of a step (0: the cores the process may use; a \
+                      step too small to gain from them stays on the calling thread; results are bit for bit \
+                      the same for any number)",
     },
     time_vr: TIME_VR,
     element_parameters: &[ROUGHNESS],
