@@ -25,8 +25,8 @@ pub struct Element<M> {
     values: Values,
     stale: bool,
     model: M,
-    /// The wall time of its last evaluation of its outputs [s] (the order in which threads take the
-    /// elements).
+    /// The wall time of its last evaluation of its outputs [s] (whether a call is shared between threads,
+    /// and the order in which they take the elements).
     cost: f64,
     /// The thread that evaluated it last (0: the caller's).
     thread: usize,
@@ -183,7 +183,8 @@ impl<M: ArrayModel> Instance<M> {
             }
             (result, kept.take())
         };
-        // the elements to evaluate, by their last times: a step too small to gain from more threads runs on this one
+        // the work of the elements to evaluate, by their last times: too little to gain from more threads
+        // runs on this one
         let work: f64 = self
             .elements
             .iter()
