@@ -25,13 +25,23 @@ pub struct Element<M> {
     values: Values,
     stale: bool,
     model: M,
-    /// The wall time of its last evaluation of its outputs [s] (whether a call is shared between threads,
-    /// and the order in which they take the elements).
-    cost: f64,
+    /// The wall times of its last two evaluations of its outputs after the first [s], the last first (zero
+    /// where there is none yet).
+    times: [f64; 2],
     /// The thread that evaluated it last (0: the caller's).
     thread: usize,
     /// Whether its outputs have been evaluated once (its set-up).
     evaluated: bool,
+}
+
+impl<M> Element<M> {
+    /// The time its next evaluation is expected to take [s] (whether a call is shared between threads, and
+    /// the order in which they take the elements): the smaller of its last two, so that one slow evaluation
+    /// (the first lookups of a table touching its pages, a new grid's operators) does not count as a step's
+    /// work; zero until there are two.
+    fn cost(&self) -> f64 {
+        self.times[0].min(self.times[1])
+    }
 }
 
 /// An FMI 3.0 instance of `contacts` elements of model `M`.
@@ -67,11 +77,11 @@ fn available_cores() -> usize {
     *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }
 
-/// The least work [s] (the sum of the last evaluation times of the elements a call evaluates) that is
-/// shared between threads; less runs on the calling thread. Handing a job to the workers and waiting for
-/// them costs 2–15 µs while they wait spinning and 50–100 µs once they sleep (waking a halted virtual CPU):
-/// a step of eight contacts by table (a few µs) would take longer on several threads than on one, a step of
-/// exact contacts (tens to hundreds of µs each) gains.
+/// The least work [s] (the sum of the expected times, [`Element::cost`], of the elements a call evaluates)
+/// that is shared between threads; less runs on the calling thread. Handing a job to the workers and waiting
+/// for them costs 2–15 µs while they wait spinning and 50–100 µs once they sleep (waking a halted virtual
+/// CPU): a step of eight contacts by table (a few µs) would take longer on several threads than on one, a
+/// step of exact contacts (tens to hundreds of µs each) gains.
 const PARALLEL_WORK: f64 = 100e-6;
 
 /// One element's evaluation: its status and the log messages it kept.
@@ -147,7 +157,7 @@ impl<M: ArrayModel> Instance<M> {
                 values: template.clone(),
                 stale: true,
                 model: M::new(self.resources.clone()),
-                cost: 0.0,
+                times: [0.0; 2],
                 thread: 0,
                 evaluated: false,
             });
@@ -178,18 +188,18 @@ impl<M: ArrayModel> Instance<M> {
             // the first evaluation sets the element up (loads its table, builds its solver's operators):
             // its time says nothing of the steps
             match computes && e.evaluated {
-                true => e.cost = start.elapsed().as_secs_f64(),
+                true => e.times = [start.elapsed().as_secs_f64(), e.times[0]],
                 false => e.evaluated |= computes,
             }
             (result, kept.take())
         };
-        // the work of the elements to evaluate, by their last times: too little to gain from more threads
+        // the work of the elements to evaluate, by their expected times: too little to gain from more threads
         // runs on this one
         let work: f64 = self
             .elements
             .iter()
             .filter(|e| e.stale)
-            .map(|e| e.cost)
+            .map(Element::cost)
             .sum();
         let workers = match work < PARALLEL_WORK {
             true => 1,
@@ -206,14 +216,14 @@ impl<M: ArrayModel> Instance<M> {
             let elements = &mut self.elements;
             lease.with(|pool| {
                 // each thread first takes the elements it evaluated last time (their data are in its caches),
-                // the costliest first (by their last evaluation), then the cheapest left of the others'
+                // the costliest first (by their expected times), then the cheapest left of the others'
                 let threads = pool.threads() + 1;
                 let mut lists = vec![Vec::new(); threads];
                 for (k, e) in elements.iter().enumerate() {
                     lists[e.thread.min(threads - 1)].push(k);
                 }
                 for l in &mut lists {
-                    l.sort_by(|a, b| elements[*b].cost.total_cmp(&elements[*a].cost));
+                    l.sort_by(|a, b| elements[*b].cost().total_cmp(&elements[*a].cost()));
                 }
                 let mut slots: Vec<(&mut Element<M>, Option<Evaluated>)> =
                     elements.iter_mut().map(|e| (e, None)).collect();
@@ -661,7 +671,7 @@ impl<M: ArrayModel> Instance<M> {
                 values: Values::start(Self::table()),
                 stale: true,
                 model: M::new(self.resources.clone()),
-                cost: 0.0,
+                times: [0.0; 2],
                 thread: 0,
                 evaluated: false,
             });
